@@ -1,0 +1,139 @@
+#include "common/cli.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+#include <new>
+
+#include "stac/error.hpp"
+
+#ifndef STAC_VERSION
+#define STAC_VERSION "0.0.0"
+#endif
+
+namespace stac::cli {
+
+std::string Args::get(const std::string& name, const std::string& fallback) const {
+  auto it = values_.find(name);
+  return it == values_.end() ? fallback : it->second;
+}
+
+double Args::getDouble(const std::string& name, double fallback) const {
+  if (!has(name)) return fallback;
+  const std::string s = get(name);
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || *end != '\0' || !std::isfinite(v))
+    throw UsageError("--" + name + " expects a number, got '" + s + "'");
+  return v;
+}
+
+int Args::getInt(const std::string& name, int fallback) const {
+  if (!has(name)) return fallback;
+  const std::string s = get(name);
+  char* end = nullptr;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || *end != '\0' || v < -1000000000L || v > 1000000000L)
+    throw UsageError("--" + name + " expects an integer, got '" + s + "'");
+  return static_cast<int>(v);
+}
+
+std::string Args::getChoice(const std::string& name,
+                            const std::vector<std::string>& choices,
+                            const std::string& fallback) const {
+  if (!has(name)) return fallback;
+  const std::string v = get(name);
+  std::string list;
+  for (const std::string& c : choices) {
+    if (c == v) return v;
+    list += (list.empty() ? "" : "|") + c;
+  }
+  throw UsageError("--" + name + " must be one of " + list + ", got '" + v + "'");
+}
+
+Args parseArgs(int argc, char** argv, const std::vector<Option>& options) {
+  Args args;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a.rfind("--", 0) != 0)
+      throw UsageError("unexpected argument '" + a + "'");
+    std::string name = a.substr(2), value;
+    bool inline_value = false;
+    if (auto eq = name.find('='); eq != std::string::npos) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+      inline_value = true;
+    }
+    const Option* opt = nullptr;
+    for (const Option& o : options)
+      if (o.name == name) opt = &o;
+    if (!opt) throw UsageError("unknown option '--" + name + "' (see --help)");
+    if (opt->value_name.empty()) {
+      if (inline_value) throw UsageError("--" + name + " takes no value");
+      value = "1";
+    } else if (!inline_value) {
+      if (i + 1 >= argc) throw UsageError("--" + name + " needs a value");
+      value = argv[++i];
+    }
+    if (args.values_.count(name))
+      throw UsageError("--" + name + " given twice");
+    args.values_[name] = value;
+  }
+  for (const Option& o : options)
+    if (o.required && !args.has(o.name))
+      throw UsageError("missing required option --" + o.name);
+  return args;
+}
+
+namespace {
+void printHelp(const std::string& synopsis, const std::vector<Option>& options) {
+  std::cout << synopsis << "\n\nOptions:\n";
+  for (const Option& o : options) {
+    std::string left = "  --" + o.name + (o.value_name.empty() ? "" : " " + o.value_name);
+    if (left.size() < 28) left.resize(28, ' ');
+    else left += "  ";
+    std::cout << left << o.help << (o.required ? " (required)" : "") << "\n";
+  }
+  std::cout << "  --help                    print this help\n"
+               "  --version                 print the version\n\n"
+               "Exit codes: 0 success, 2 bad usage or input, 3 internal error.\n";
+}
+}  // namespace
+
+int runApp(int argc, char** argv, const std::string& app,
+           const std::string& synopsis, const std::vector<Option>& options,
+           const std::function<int(const Args&)>& body) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      printHelp(synopsis, options);
+      return 0;
+    }
+    if (a == "--version") {
+      std::cout << app << " " << STAC_VERSION << "\n";
+      return 0;
+    }
+  }
+  try {
+    return body(parseArgs(argc, argv, options));
+  } catch (const UsageError& e) {
+    std::cerr << app << ": error: " << e.what() << "\n"
+              << "usage: see '" << app << " --help'\n";
+    return 2;
+  } catch (const InputError& e) {
+    std::cerr << app << ": error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << app << ": error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << app << ": internal error: out of memory\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << app << ": internal error: " << e.what() << "\n";
+    return 3;
+  }
+}
+
+}  // namespace stac::cli

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# One entry point for a fresh Debian machine: installs the build dependencies
+# (apt, as root or through sudo; skips what is there), builds, and runs.
+#
+#   bash cmake/run.sh example   # calibrate the bundled example, print summary
+#   bash cmake/run.sh test      # build (Release + ASan/UBSan) and run ctest
+#   bash cmake/run.sh bench     # build and run the benchmarks (slow)
+#   bash cmake/run.sh deps      # only install the dependencies
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$here"
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+packages=(build-essential cmake ninja-build pkg-config libceres-dev
+  libsuitesparse-dev libeigen3-dev liburdfdom-dev libtinyxml-dev
+  liborocos-kdl-dev libyaml-cpp-dev libgtest-dev libgmock-dev
+  libbenchmark-dev python3)
+
+install_deps() {
+  local missing=()
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
+      || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "Installing: ${missing[*]}" >&2
+  local sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "need root or sudo to install ${missing[*]}" >&2; exit 1; }
+    sudo="sudo"
+  fi
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+robots_dir=""
+[ -d "$here/../shared/robots" ] && robots_dir="$(cd "$here/../shared/robots" && pwd)"
+
+configure_build() {  # dir, extra cmake args...
+  local dir="$1"; shift
+  cmake -S "$here" -B "$dir" -G Ninja -DSTAC_ROBOTS_DIR="$robots_dir" "$@" >/dev/null
+  cmake --build "$dir" -j "$jobs"
+}
+
+case "${1:-}" in
+  deps) install_deps ;;
+  example)
+    install_deps
+    configure_build build -DCMAKE_BUILD_TYPE=Release
+    out="$(mktemp -d)"
+    ./build/apps/stac_calib --urdf data/gimbal2.urdf --log data/gimbal2_example.csv \
+      --sensors data/gimbal2_seed.yaml --output "$out/calibration.yaml"
+    echo "calibration written to $out/calibration.yaml" >&2
+    ;;
+  test)
+    install_deps
+    configure_build build -DCMAKE_BUILD_TYPE=Release
+    (cd build && ctest --output-on-failure -j "$jobs" -LE long)
+    # Memory errors and undefined behaviour fail CI too: unit tests under
+    # AddressSanitizer + UBSan.
+    configure_build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTAC_SANITIZE=ON \
+      -DSTAC_BUILD_BENCHMARKS=OFF
+    (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      ctest --output-on-failure -j "$jobs" -L unit -E "$(cat "$here/test/asan_exclude.txt" 2>/dev/null || echo '^$')")
+    ;;
+  bench)
+    install_deps
+    configure_build build -DCMAKE_BUILD_TYPE=Release
+    cmake --build build --target benchmarks -j "$jobs"
+    for b in build/test/*_bench; do echo "== $b"; "$b"; done
+    ;;
+  *) echo "usage: bash cmake/run.sh example|test|bench|deps" >&2; exit 2 ;;
+esac

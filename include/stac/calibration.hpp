@@ -1,0 +1,63 @@
+// What a calibration run produces besides θ: uncertainties, residual
+// statistics and a summary (SPEC §3 "std", "residual", "summary").
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "stac/sensors.hpp"
+
+namespace stac {
+
+struct ResidualStats {
+  double rms = 0.0;   // raw units (metres for markers: Euclidean distance)
+  double mae = 0.0;
+  int count = 0;
+};
+
+// One standard deviation per estimated parameter, +inf where the data cannot
+// determine it, 0 where the parameter is fixed.
+struct ParameterStd {
+  Eigen::Vector3d mocap_translation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d mocap_rotation = Eigen::Vector3d::Zero();  // rad, about x,y,z
+  std::vector<Eigen::Vector3d> marker_position;
+  std::vector<GainBias> joint_sensor;   // std of gain and of bias
+  std::vector<GainBias> tendon_sensor;
+};
+
+struct UnidentifiableDirection {
+  std::vector<std::string> parameters;  // e.g. "joint_sensors.pan_pot.bias"
+  std::string reason;                   // one human sentence
+};
+
+struct DownweightedReading {
+  int frame = 0;
+  std::string sensor;
+  double weight = 1.0;  // robust loss weight rho'(s) in [0, 1]
+};
+
+struct CalibrationSummary {
+  std::string method;        // stac | joint | ekf | classical
+  std::string q_phase;       // for stac
+  int iterations = 0;
+  bool converged = false;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  int frames = 0;
+  double wall_time = 0.0;    // seconds
+  double group_sigma[kNumSensorGroups] = {0, 0, 0};
+  bool group_present[kNumSensorGroups] = {false, false, false};
+  std::vector<UnidentifiableDirection> unidentifiable;
+  std::vector<DownweightedReading> downweighted;
+};
+
+struct CalibrationResult {
+  SensorSet sensors;             // with final σ per sensor
+  SensorParameters theta;
+  ParameterStd std;
+  std::vector<ResidualStats> marker_residual, joint_residual, tendon_residual;
+  CalibrationSummary summary;
+};
+
+}  // namespace stac

@@ -1,0 +1,60 @@
+// The synchronized log (SPEC §2): a CSV file with a header line.
+//
+// readLog() only parses; bindLog() checks the columns against a SensorSet
+// and splits them per sensor group, applying --mocap-units to marker columns.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "stac/sensors.hpp"
+
+namespace stac {
+
+using RowMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+struct Log {
+  std::string path;
+  std::vector<std::string> columns;  // header names, the time column excluded
+  std::string time_name;             // "time", "t" or "timestamp"; "" if none
+  std::vector<double> time;          // one per frame when time_name != ""
+  RowMatrix values;                  // frames x columns; NaN = missing
+  std::vector<int> line_of_frame;    // 1-based source line of each frame
+
+  int numFrames() const { return static_cast<int>(values.rows()); }
+  bool hasTime() const { return !time_name.empty(); }
+};
+
+// Throws InputError(file, line, column, ...) for text, inf, ragged rows, an
+// empty or duplicate header, or a missing file.
+Log readLog(const std::string& path);
+Log parseLog(const std::string& text, const std::string& source_name);
+
+// Writes a log (numbers with enough digits to round-trip; NaN as empty
+// cells), through a temporary file renamed into place.
+void writeLog(const std::string& path, const Log& log);
+
+// Readings per sensor group, NaN where missing. Marker rows hold x,y,z of
+// marker m at columns 3m..3m+2; a marker missing any coordinate is NaN in all
+// three.
+struct Observations {
+  int num_frames = 0;
+  std::vector<double> time;  // empty when the log has none
+  std::string time_name;
+  RowMatrix marker;          // frames x 3*markers, metres
+  RowMatrix joint;           // frames x joint sensors
+  RowMatrix tendon;          // frames x tendon sensors
+};
+
+// mocap_scale multiplies marker columns (0.001 for --mocap-units mm).
+// Every log column must belong to a sensor and every sensor must have its
+// column(s): either mismatch throws an InputError naming both files.
+Observations bindLog(const Log& log, const SensorSet& sensors,
+                     const std::string& sensors_source, double mocap_scale);
+
+// Frames [begin, end) of the observations.
+Observations sliceFrames(const Observations& obs, int begin, int end);
+
+}  // namespace stac

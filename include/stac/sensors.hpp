@@ -1,0 +1,92 @@
+// The sensors of a robot (SPEC §1, §3): configuration apart from the values
+// being estimated.
+//
+// SensorSet is the immutable description: names, the links/joints each sensor
+// is attached to (resolved to indices once, against a RobotModel), path
+// anchors and coupling coefficients (known geometry), which parameters are
+// held fixed, and the noise σ seeds. SensorParameters (θ) holds the values
+// that calibration estimates: gains/biases, marker positions, the mocap frame.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace stac {
+
+// x_mocap = R x_base + t: the pose of the robot base in the mocap frame.
+struct MocapFrame {
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+};
+
+struct MarkerConfig {
+  std::string name;
+  std::string link_name;
+  int link = -1;             // RobotModel link index
+  double sigma = 0.002;      // metres (mocap.sigma unless overridden)
+  bool sigma_overridden = false;
+  bool fixed = false;
+};
+
+struct JointSensorConfig {
+  std::string name;
+  std::string joint_name;
+  int joint = -1;            // RobotModel movable joint index (may be mimic)
+  double sigma = 0.01;
+  bool fixed = false;
+};
+
+struct PathAnchor {
+  std::string link_name;
+  int link = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // in the link's frame
+};
+
+struct CouplingTerm {
+  std::string joint_name;
+  int joint = -1;            // movable joint index (may be mimic)
+  double coefficient = 0.0;
+};
+
+struct TendonSensorConfig {
+  enum class Kind { kPath, kCoupling };
+  std::string name;
+  Kind kind = Kind::kPath;
+  std::vector<PathAnchor> path;        // kPath: >= 2 anchors
+  std::vector<CouplingTerm> coupling;  // kCoupling
+  double sigma = 0.01;
+  bool fixed = false;
+};
+
+struct SensorSet {
+  double mocap_sigma = 0.002;
+  bool mocap_frame_fixed = false;
+  std::vector<MarkerConfig> markers;
+  std::vector<JointSensorConfig> joint_sensors;
+  std::vector<TendonSensorConfig> tendon_sensors;
+
+  bool hasMarkers() const { return !markers.empty(); }
+};
+
+// A linear sensor's map p = gain * value + bias.
+struct GainBias {
+  double gain = 1.0;
+  double bias = 0.0;
+};
+
+// θ: everything calibration estimates, indexed like the SensorSet.
+struct SensorParameters {
+  MocapFrame mocap;
+  std::vector<Eigen::Vector3d> marker_position;  // in the marker's link frame
+  std::vector<GainBias> joint_sensor;
+  std::vector<GainBias> tendon_sensor;
+};
+
+// Sensor groups, for per-group σ adaptation and reporting (SPEC §1).
+enum class SensorGroup { kMarker = 0, kJoint = 1, kTendon = 2 };
+constexpr int kNumSensorGroups = 3;
+const char* groupName(SensorGroup g);
+
+}  // namespace stac
