@@ -1,0 +1,155 @@
+// The likelihood of one frame (paper eq. 9, SPEC §1): every available
+// reading's residual (prediction - measurement) / σ, optionally robustified,
+// with its Jacobians with respect to q_t and to θ.
+//
+// MeasurementModel is built once from a RobotModel and a SensorSet (both must
+// outlive it): it resolves which q columns each sensor depends on and lays
+// out θ as one vector for the uncertainty and monolithic solvers:
+//   [mocap rotation δ (3, left perturbation) | mocap translation (3) |
+//    marker positions (3 each) | joint sensors (gain, bias) |
+//    tendon sensors (gain, bias)]
+// FrameWorkspace holds every per-thread buffer; evaluation never allocates.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "stac/kinematics.hpp"
+#include "stac/log.hpp"
+#include "stac/robot_model.hpp"
+#include "stac/sensors.hpp"
+
+namespace ceres {
+class LossFunction;
+}
+
+namespace stac {
+
+// Effective σ of every sensor (seed σ times the group's adapted scale).
+struct NoiseModel {
+  std::vector<double> marker, joint, tendon;
+  static NoiseModel fromSeeds(const SensorSet& sensors);
+};
+
+enum class LossKind { kNone, kHuber, kCauchy };
+
+// A robust loss ρ(s) on the squared whitened residual s of one reading
+// (Ceres's convention: ρ(s) = s for small s). Owns a Ceres loss so that the
+// alternation and the monolithic problem use the very same function.
+class RobustLoss {
+ public:
+  RobustLoss(LossKind kind = LossKind::kNone, double scale = 3.0);
+  ~RobustLoss();
+  RobustLoss(RobustLoss&&) noexcept;
+  RobustLoss& operator=(RobustLoss&&) noexcept;
+  bool enabled() const { return kind_ != LossKind::kNone; }
+  LossKind kind() const { return kind_; }
+  double scale() const { return scale_; }
+  // rho[0] = ρ(s), rho[1] = ρ'(s), rho[2] = ρ''(s).
+  void evaluate(double s, double rho[3]) const;
+  // A new Ceres loss of the same kind (nullptr for none); caller owns it.
+  ceres::LossFunction* makeCeresLoss() const;
+
+ private:
+  LossKind kind_;
+  double scale_;
+  std::unique_ptr<ceres::LossFunction> loss_;
+};
+
+class MeasurementModel {
+ public:
+  MeasurementModel(const RobotModel& robot, const SensorSet& sensors);
+
+  const RobotModel& robot() const { return *robot_; }
+  const SensorSet& sensors() const { return *sensors_; }
+  int dof() const { return robot_->dof(); }
+  int numReadingsMax() const { return num_sensors_; }
+
+  const std::vector<int>& markerColumns(int m) const { return marker_cols_[m]; }
+  const std::vector<int>& jointColumns(int s) const { return joint_cols_[s]; }
+  const std::vector<int>& tendonColumns(int s) const { return tendon_cols_[s]; }
+
+  // θ layout.
+  int thetaSize() const { return theta_size_; }
+  static constexpr int kRotationOffset = 0;
+  static constexpr int kTranslationOffset = 3;
+  int markerOffset(int m) const { return 6 + 3 * m; }
+  int jointOffset(int s) const { return joint_offset_ + 2 * s; }
+  int tendonOffset(int s) const { return tendon_offset_ + 2 * s; }
+  // Human names, e.g. "markers.m_head.position.x", "joint_sensors.p.bias".
+  const std::vector<std::string>& thetaNames() const { return theta_names_; }
+  // False where the parameter is held fixed (or there are no markers).
+  const std::vector<bool>& thetaFree() const { return theta_free_; }
+  // A typical magnitude per θ entry, to compare parameters of different
+  // units (metres, radians, volts) when judging identifiability.
+  Eigen::VectorXd thetaScale(const SensorParameters& theta) const;
+
+ private:
+  const RobotModel* robot_;
+  const SensorSet* sensors_;
+  int num_sensors_ = 0;
+  std::vector<std::vector<int>> marker_cols_, joint_cols_, tendon_cols_;
+  int joint_offset_ = 0, tendon_offset_ = 0, theta_size_ = 0;
+  std::vector<std::string> theta_names_;
+  std::vector<bool> theta_free_;
+};
+
+// One reading's whitened (and robustified) residual and Jacobians.
+struct ReadingJacobian {
+  SensorGroup group = SensorGroup::kJoint;
+  int sensor = 0;         // index within its group
+  int rows = 1;           // 1, or 3 for a marker
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  double s = 0.0;         // squared whitened residual before the loss
+  double rho = 0.0;       // ρ(s)
+  double weight = 1.0;    // ρ'(s): how much the loss trusts this reading
+  const std::vector<int>* q_cols = nullptr;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jq;  // rows x q_cols->size()
+  int theta_count = 0;
+  int theta_index[9] = {0};
+  Eigen::Matrix<double, 3, 9> Jtheta = Eigen::Matrix<double, 3, 9>::Zero();
+};
+
+// The readings of one frame, as pointers into the Observations rows.
+struct FrameReadings {
+  const double* marker = nullptr;  // 3 * markers, NaN missing
+  const double* joint = nullptr;
+  const double* tendon = nullptr;
+};
+FrameReadings frameReadings(const Observations& obs, int t);
+
+struct FrameWorkspace {
+  explicit FrameWorkspace(const MeasurementModel& model);
+  KinematicsWorkspace kin;
+  std::vector<ReadingJacobian> readings;
+  int count = 0;                  // readings filled by the last evaluation
+  Eigen::RowVectorXd row;         // dof scratch
+  Eigen::MatrixXd point_jac;      // 3 x dof scratch
+};
+
+// Evaluates frame t at q. Returns the frame's cost ½ Σ ρ(s). With
+// jacobians=false only r, s, rho, weight are filled. Group weights multiply
+// each group's whitened residuals (0 switches a group off).
+struct EvalOptions {
+  bool jacobians = true;
+  bool theta_jacobians = false;
+  double group_weight[kNumSensorGroups] = {1.0, 1.0, 1.0};
+};
+double evaluateFrame(const MeasurementModel& model, const SensorParameters& theta,
+                     const NoiseModel& noise, const RobustLoss& loss,
+                     const FrameReadings& readings, const Eigen::VectorXd& q,
+                     const EvalOptions& options, FrameWorkspace* ws);
+
+}  // namespace stac
+
+namespace stac {
+
+// Noise-free predicted readings of every sensor at q, in raw units (mocap
+// frame for markers): marker (3 * markers), joint, tendon.
+void predictFrame(const MeasurementModel& model, const SensorParameters& theta,
+                  const Eigen::VectorXd& q, KinematicsWorkspace* ws,
+                  double* marker, double* joint, double* tendon);
+
+}  // namespace stac

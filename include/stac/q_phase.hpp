@@ -1,0 +1,52 @@
+// q-phase (paper §III-D): with θ fixed the frames are independent; each
+// q_t is refined by a small dense solver, in parallel over frames.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "stac/log.hpp"
+#include "stac/measurement.hpp"
+
+namespace stac {
+
+enum class QPhaseMethod {
+  kLmIter,   // one accepted Levenberg-Marquardt step per frame (paper LM-iter)
+  kLmBatch,  // LM to convergence per frame (paper LM-batch)
+  kBfgs,     // BFGS per frame, Gauss-Newton-scaled start (paper §VI-A)
+};
+
+struct QPhaseOptions {
+  QPhaseMethod method = QPhaseMethod::kLmIter;
+  int max_steps = 30;       // per frame, for lm-batch and bfgs
+  double step_tolerance = 1e-10;
+  int threads = 0;
+  EvalOptions eval;         // group weights; jacobian flags are set inside
+};
+
+// Per-frame solver state carried across outer iterations (warm start).
+struct QState {
+  RowMatrix q;               // frames x dof
+  Eigen::VectorXd lambda;    // LM damping per frame
+  Eigen::VectorXd cost;      // last cost per frame
+};
+
+// Refines every row of state->q. Returns the total cost ½ Σ ρ afterwards.
+// `workspaces` holds one FrameWorkspace per thread.
+double qPhase(const MeasurementModel& model, const SensorParameters& theta,
+              const NoiseModel& noise, const RobustLoss& loss,
+              const Observations& obs, const QPhaseOptions& options,
+              std::vector<FrameWorkspace>* workspaces, QState* state);
+
+// Total cost ½ Σ ρ at the current q (no Jacobians); fills state->cost.
+double totalCost(const MeasurementModel& model, const SensorParameters& theta,
+                 const NoiseModel& noise, const RobustLoss& loss,
+                 const Observations& obs, const EvalOptions& eval, int threads,
+                 std::vector<FrameWorkspace>* workspaces, QState* state);
+
+// The Gauss-Newton system of one frame from the last evaluation in ws:
+// H = Σ Jqᵀ Jq, g = Σ Jqᵀ r (dof x dof, dof).
+void accumulateNormalEquations(const FrameWorkspace& ws, Eigen::MatrixXd* H,
+                               Eigen::VectorXd* g);
+
+}  // namespace stac

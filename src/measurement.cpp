@@ -1,0 +1,313 @@
+#include "stac/measurement.hpp"
+
+#include <ceres/loss_function.h>
+
+#include <cmath>
+
+#include "stac/sensor_models.hpp"
+
+namespace stac {
+
+NoiseModel NoiseModel::fromSeeds(const SensorSet& sensors) {
+  NoiseModel n;
+  for (const MarkerConfig& m : sensors.markers) n.marker.push_back(m.sigma);
+  for (const JointSensorConfig& s : sensors.joint_sensors) n.joint.push_back(s.sigma);
+  for (const TendonSensorConfig& s : sensors.tendon_sensors) n.tendon.push_back(s.sigma);
+  return n;
+}
+
+RobustLoss::RobustLoss(LossKind kind, double scale) : kind_(kind), scale_(scale) {
+  if (kind == LossKind::kHuber) loss_ = std::make_unique<ceres::HuberLoss>(scale);
+  if (kind == LossKind::kCauchy) loss_ = std::make_unique<ceres::CauchyLoss>(scale);
+}
+RobustLoss::~RobustLoss() = default;
+RobustLoss::RobustLoss(RobustLoss&&) noexcept = default;
+RobustLoss& RobustLoss::operator=(RobustLoss&&) noexcept = default;
+
+void RobustLoss::evaluate(double s, double rho[3]) const {
+  if (!loss_) {
+    rho[0] = s, rho[1] = 1.0, rho[2] = 0.0;
+    return;
+  }
+  loss_->Evaluate(s, rho);
+}
+
+ceres::LossFunction* RobustLoss::makeCeresLoss() const {
+  switch (kind_) {
+    case LossKind::kHuber: return new ceres::HuberLoss(scale_);
+    case LossKind::kCauchy: return new ceres::CauchyLoss(scale_);
+    case LossKind::kNone: break;
+  }
+  return nullptr;
+}
+
+MeasurementModel::MeasurementModel(const RobotModel& robot, const SensorSet& sensors)
+    : robot_(&robot), sensors_(&sensors) {
+  for (const MarkerConfig& m : sensors.markers)
+    marker_cols_.push_back(marker_sensor::columns(robot, m.link));
+  for (const JointSensorConfig& s : sensors.joint_sensors)
+    joint_cols_.push_back({joint_sensor::column(robot, s)});
+  for (const TendonSensorConfig& s : sensors.tendon_sensors)
+    tendon_cols_.push_back(tendon_sensor::columns(robot, s));
+  num_sensors_ = static_cast<int>(sensors.markers.size() + sensors.joint_sensors.size() +
+                                  sensors.tendon_sensors.size());
+
+  const bool frame_free = !sensors.markers.empty() && !sensors.mocap_frame_fixed;
+  for (const char* axis : {"x", "y", "z"}) {
+    theta_names_.push_back(std::string("mocap.frame.rotation.") + axis);
+    theta_free_.push_back(frame_free);
+  }
+  for (const char* axis : {"x", "y", "z"}) {
+    theta_names_.push_back(std::string("mocap.frame.translation.") + axis);
+    theta_free_.push_back(frame_free);
+  }
+  for (const MarkerConfig& m : sensors.markers)
+    for (const char* axis : {"x", "y", "z"}) {
+      theta_names_.push_back("markers." + m.name + ".position." + axis);
+      theta_free_.push_back(!m.fixed);
+    }
+  joint_offset_ = static_cast<int>(theta_names_.size());
+  for (const JointSensorConfig& s : sensors.joint_sensors)
+    for (const char* p : {"gain", "bias"}) {
+      theta_names_.push_back("joint_sensors." + s.name + "." + p);
+      theta_free_.push_back(!s.fixed);
+    }
+  tendon_offset_ = static_cast<int>(theta_names_.size());
+  for (const TendonSensorConfig& s : sensors.tendon_sensors)
+    for (const char* p : {"gain", "bias"}) {
+      theta_names_.push_back("tendon_sensors." + s.name + "." + p);
+      theta_free_.push_back(!s.fixed);
+    }
+  theta_size_ = static_cast<int>(theta_names_.size());
+}
+
+Eigen::VectorXd MeasurementModel::thetaScale(const SensorParameters& theta) const {
+  // Rotations in radians and positions in metres are compared through the
+  // robot's size; a gain through the typical magnitude of its own value.
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(theta_size_);
+  for (int i = 0; i < 3; ++i) scale[kTranslationOffset + i] = 0.1;
+  for (size_t m = 0; m < sensors_->markers.size(); ++m)
+    scale.segment<3>(markerOffset(static_cast<int>(m))).setConstant(0.01);
+  for (size_t s = 0; s < sensors_->joint_sensors.size(); ++s) {
+    const double g = std::max(std::abs(theta.joint_sensor[s].gain), 1e-3);
+    scale[jointOffset(static_cast<int>(s))] = 0.1 * g;
+    scale[jointOffset(static_cast<int>(s)) + 1] = 0.1 * g;  // bias ~ gain * 0.1 rad
+  }
+  for (size_t s = 0; s < sensors_->tendon_sensors.size(); ++s) {
+    const double g = std::max(std::abs(theta.tendon_sensor[s].gain), 1e-3);
+    scale[tendonOffset(static_cast<int>(s))] = 0.1 * g;
+    scale[tendonOffset(static_cast<int>(s)) + 1] = 0.01 * g;
+  }
+  return scale;
+}
+
+FrameReadings frameReadings(const Observations& obs, int t) {
+  FrameReadings f;
+  if (obs.marker.cols() > 0) f.marker = obs.marker.row(t).data();
+  if (obs.joint.cols() > 0) f.joint = obs.joint.row(t).data();
+  if (obs.tendon.cols() > 0) f.tendon = obs.tendon.row(t).data();
+  return f;
+}
+
+FrameWorkspace::FrameWorkspace(const MeasurementModel& model)
+    : kin(model.robot()),
+      readings(model.numReadingsMax()),
+      row(model.dof()),
+      point_jac(3, model.dof()) {
+  int k = 0;
+  const SensorSet& s = model.sensors();
+  for (size_t m = 0; m < s.markers.size(); ++m, ++k)
+    readings[k].Jq.resize(3, model.markerColumns(static_cast<int>(m)).size());
+  for (size_t j = 0; j < s.joint_sensors.size(); ++j, ++k)
+    readings[k].Jq.resize(3, 1);
+  for (size_t j = 0; j < s.tendon_sensors.size(); ++j, ++k)
+    readings[k].Jq.resize(3, model.tendonColumns(static_cast<int>(j)).size());
+}
+
+namespace {
+
+// Replaces the whitened residual r (n rows) by sqrt(ρ(s)/s) r, whose squared
+// norm is ρ(s), and its Jacobians by the exact derivative of that map, so a
+// plain least-squares solver minimises Σ ρ. Returns ρ(s).
+void robustify(const RobustLoss& loss, ReadingJacobian* rj, bool jac, int nq) {
+  const int n = rj->rows;
+  const double s = rj->r.head(n).squaredNorm();
+  double rho[3];
+  loss.evaluate(s, rho);
+  rj->s = s;
+  rj->rho = rho[0];
+  rj->weight = rho[1];
+  if (!loss.enabled()) return;
+  if (s < 1e-300) return;  // ρ(s) ≈ s near zero: the map is the identity
+  const double f = std::sqrt(rho[0] / s);
+  // d f / d s, with f = sqrt(ρ/s): (ρ' s - ρ) / (2 s² f)
+  const double df = (rho[1] * s - rho[0]) / (2.0 * s * s * f);
+  if (jac) {
+    // J' = f J + r (df * 2 r^T J)
+    const Eigen::VectorXd r = rj->r.head(n);
+    if (nq > 0) {
+      Eigen::RowVectorXd rtJ = r.transpose() * rj->Jq.topLeftCorner(n, nq);
+      rj->Jq.topLeftCorner(n, nq) = f * rj->Jq.topLeftCorner(n, nq) + (2.0 * df) * r * rtJ;
+    }
+    if (rj->theta_count > 0) {
+      const int k = rj->theta_count;
+      Eigen::RowVectorXd rtJ = r.transpose() * rj->Jtheta.topLeftCorner(n, k);
+      rj->Jtheta.topLeftCorner(n, k) =
+          f * rj->Jtheta.topLeftCorner(n, k) + (2.0 * df) * r * rtJ;
+    }
+  }
+  rj->r.head(n) *= f;
+}
+
+}  // namespace
+
+double evaluateFrame(const MeasurementModel& model, const SensorParameters& theta,
+                     const NoiseModel& noise, const RobustLoss& loss,
+                     const FrameReadings& readings, const Eigen::VectorXd& q,
+                     const EvalOptions& options, FrameWorkspace* ws) {
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  forwardKinematics(robot, q, &ws->kin);
+  const bool jac = options.jacobians;
+  const bool tjac = options.theta_jacobians;
+  int k = 0;
+  double cost = 0.0;
+
+  // Markers.
+  const double wm = options.group_weight[0];
+  if (readings.marker && wm > 0) {
+    const Eigen::Matrix3d R = theta.mocap.rotation.toRotationMatrix();
+    const Eigen::Vector3d& t = theta.mocap.translation;
+    for (size_t m = 0; m < sensors.markers.size(); ++m) {
+      const double* x = readings.marker + 3 * m;
+      if (std::isnan(x[0])) continue;
+      const MarkerConfig& mc = sensors.markers[m];
+      ReadingJacobian& rj = ws->readings[k++];
+      rj.group = SensorGroup::kMarker;
+      rj.sensor = static_cast<int>(m);
+      rj.rows = 3;
+      const double inv = wm / noise.marker[m];
+      const Eigen::Vector3d xb =
+          marker_sensor::positionInBase(ws->kin, mc.link, theta.marker_position[m]);
+      rj.r = (marker_sensor::predict(R, t, xb) - Eigen::Vector3d(x[0], x[1], x[2])) * inv;
+      const std::vector<int>& cols = model.markerColumns(static_cast<int>(m));
+      rj.q_cols = &cols;
+      if (jac) {
+        pointJacobian(robot, ws->kin, mc.link, xb, ws->point_jac);
+        for (size_t c = 0; c < cols.size(); ++c)
+          rj.Jq.col(c) = inv * (R * ws->point_jac.col(cols[c]));
+      }
+      rj.theta_count = 0;
+      if (tjac) {
+        const int mo = model.markerOffset(static_cast<int>(m));
+        rj.theta_count = 9;
+        for (int i = 0; i < 3; ++i) {
+          rj.theta_index[i] = MeasurementModel::kRotationOffset + i;
+          rj.theta_index[3 + i] = MeasurementModel::kTranslationOffset + i;
+          rj.theta_index[6 + i] = mo + i;
+        }
+        rj.Jtheta.block<3, 3>(0, 0) = inv * marker_sensor::rotationJacobian(R, xb);
+        rj.Jtheta.block<3, 3>(0, 3) = inv * Eigen::Matrix3d::Identity();
+        rj.Jtheta.block<3, 3>(0, 6) = inv * (R * ws->kin.link_pose[mc.link].linear());
+      }
+      robustify(loss, &rj, jac, static_cast<int>(cols.size()));
+      cost += rj.rho;
+    }
+  }
+
+  // Joint sensors.
+  const double wj = options.group_weight[1];
+  if (readings.joint && wj > 0) {
+    for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
+      const double p = readings.joint[s];
+      if (std::isnan(p)) continue;
+      const JointSensorConfig& sc = sensors.joint_sensors[s];
+      const GainBias& gb = theta.joint_sensor[s];
+      ReadingJacobian& rj = ws->readings[k++];
+      rj.group = SensorGroup::kJoint;
+      rj.sensor = static_cast<int>(s);
+      rj.rows = 1;
+      const double inv = wj / noise.joint[s];
+      const double a = joint_sensor::angle(robot, sc, q);
+      rj.r[0] = (gb.gain * a + gb.bias - p) * inv;
+      rj.q_cols = &model.jointColumns(static_cast<int>(s));
+      if (jac) rj.Jq(0, 0) = inv * gb.gain * joint_sensor::angleDerivative(robot, sc);
+      rj.theta_count = 0;
+      if (tjac) {
+        rj.theta_count = 2;
+        rj.theta_index[0] = model.jointOffset(static_cast<int>(s));
+        rj.theta_index[1] = rj.theta_index[0] + 1;
+        rj.Jtheta(0, 0) = inv * a;
+        rj.Jtheta(0, 1) = inv;
+      }
+      robustify(loss, &rj, jac, 1);
+      cost += rj.rho;
+    }
+  }
+
+  // Tendon sensors.
+  const double wt = options.group_weight[2];
+  if (readings.tendon && wt > 0) {
+    for (size_t s = 0; s < sensors.tendon_sensors.size(); ++s) {
+      const double p = readings.tendon[s];
+      if (std::isnan(p)) continue;
+      const TendonSensorConfig& sc = sensors.tendon_sensors[s];
+      const GainBias& gb = theta.tendon_sensor[s];
+      ReadingJacobian& rj = ws->readings[k++];
+      rj.group = SensorGroup::kTendon;
+      rj.sensor = static_cast<int>(s);
+      rj.rows = 1;
+      const double inv = wt / noise.tendon[s];
+      const double L = tendon_sensor::length(robot, sc, ws->kin);
+      rj.r[0] = (gb.gain * L + gb.bias - p) * inv;
+      const std::vector<int>& cols = model.tendonColumns(static_cast<int>(s));
+      rj.q_cols = &cols;
+      if (jac) {
+        ws->row.setZero();
+        tendon_sensor::addLengthJacobian(robot, sc, ws->kin, inv * gb.gain, ws->row);
+        for (size_t c = 0; c < cols.size(); ++c) rj.Jq(0, c) = ws->row[cols[c]];
+      }
+      rj.theta_count = 0;
+      if (tjac) {
+        rj.theta_count = 2;
+        rj.theta_index[0] = model.tendonOffset(static_cast<int>(s));
+        rj.theta_index[1] = rj.theta_index[0] + 1;
+        rj.Jtheta(0, 0) = inv * L;
+        rj.Jtheta(0, 1) = inv;
+      }
+      robustify(loss, &rj, jac, static_cast<int>(cols.size()));
+      cost += rj.rho;
+    }
+  }
+  ws->count = k;
+  return 0.5 * cost;
+}
+
+}  // namespace stac
+
+namespace stac {
+
+void predictFrame(const MeasurementModel& model, const SensorParameters& theta,
+                  const Eigen::VectorXd& q, KinematicsWorkspace* ws,
+                  double* marker, double* joint, double* tendon) {
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  forwardKinematics(robot, q, ws);
+  const Eigen::Matrix3d R = theta.mocap.rotation.toRotationMatrix();
+  for (size_t m = 0; m < sensors.markers.size(); ++m) {
+    const Eigen::Vector3d x = marker_sensor::predict(
+        R, theta.mocap.translation,
+        marker_sensor::positionInBase(*ws, sensors.markers[m].link, theta.marker_position[m]));
+    for (int i = 0; i < 3; ++i) marker[3 * m + i] = x[i];
+  }
+  for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
+    const GainBias& gb = theta.joint_sensor[s];
+    joint[s] = gb.gain * joint_sensor::angle(robot, sensors.joint_sensors[s], q) + gb.bias;
+  }
+  for (size_t s = 0; s < sensors.tendon_sensors.size(); ++s) {
+    const GainBias& gb = theta.tendon_sensor[s];
+    tendon[s] = gb.gain * tendon_sensor::length(robot, sensors.tendon_sensors[s], *ws) + gb.bias;
+  }
+}
+
+}  // namespace stac

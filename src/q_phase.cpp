@@ -1,0 +1,217 @@
+#include "stac/q_phase.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "stac/parallel.hpp"
+
+namespace stac {
+
+void accumulateNormalEquations(const FrameWorkspace& ws, Eigen::MatrixXd* H,
+                               Eigen::VectorXd* g) {
+  H->setZero();
+  g->setZero();
+  for (int i = 0; i < ws.count; ++i) {
+    const ReadingJacobian& rj = ws.readings[i];
+    const std::vector<int>& cols = *rj.q_cols;
+    const int n = static_cast<int>(cols.size());
+    const auto J = rj.Jq.topLeftCorner(rj.rows, n);
+    const auto r = rj.r.head(rj.rows);
+    for (int a = 0; a < n; ++a) {
+      (*g)[cols[a]] += J.col(a).dot(r);
+      for (int b = 0; b <= a; ++b) (*H)(cols[a], cols[b]) += J.col(a).dot(J.col(b));
+    }
+  }
+  H->triangularView<Eigen::StrictlyUpper>() = H->transpose();
+}
+
+namespace {
+
+struct FrameSolver {
+  const MeasurementModel& model;
+  const SensorParameters& theta;
+  const NoiseModel& noise;
+  const RobustLoss& loss;
+  const QPhaseOptions& options;
+  EvalOptions with_jac, no_jac;
+  Eigen::MatrixXd H, A;
+  Eigen::VectorXd g, step, q_new;
+
+  FrameSolver(const MeasurementModel& m, const SensorParameters& th,
+              const NoiseModel& n, const RobustLoss& l, const QPhaseOptions& o)
+      : model(m), theta(th), noise(n), loss(l), options(o),
+        with_jac(o.eval), no_jac(o.eval),
+        H(m.dof(), m.dof()), A(m.dof(), m.dof()), g(m.dof()),
+        step(m.dof()), q_new(m.dof()) {
+    with_jac.jacobians = true;
+    with_jac.theta_jacobians = false;
+    no_jac.jacobians = false;
+    no_jac.theta_jacobians = false;
+  }
+
+  double eval(const FrameReadings& fr, const Eigen::VectorXd& q, bool jac,
+              FrameWorkspace* ws) {
+    return evaluateFrame(model, theta, noise, loss, fr, q, jac ? with_jac : no_jac, ws);
+  }
+
+  // Solves (H + λ D + ε I) step = -g; D = diag(H) keeps LM scale-invariant,
+  // ε keeps joints that no reading sees at their current value.
+  void solveDamped(double lambda) {
+    const int n = static_cast<int>(g.size());
+    const double eps = 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
+    A = H;
+    for (int i = 0; i < n; ++i) A(i, i) += lambda * H(i, i) + eps;
+    Eigen::LLT<Eigen::MatrixXd> llt(A);
+    step = llt.solve(-g);
+    if (llt.info() != Eigen::Success || !step.allFinite()) step.setZero();
+  }
+
+  // Levenberg-Marquardt; returns the final cost.
+  double lm(const FrameReadings& fr, Eigen::Ref<Eigen::RowVectorXd> q_row,
+            double* lambda, int max_accepted, FrameWorkspace* ws) {
+    Eigen::VectorXd q = q_row.transpose();
+    double cost = eval(fr, q, true, ws);
+    int accepted = 0;
+    for (int tries = 0; accepted < max_accepted && tries < 4 * max_accepted + 6; ++tries) {
+      accumulateNormalEquations(*ws, &H, &g);
+      if (g.norm() < 1e-14) break;
+      bool improved = false;
+      for (int attempt = 0; attempt < 8; ++attempt) {
+        solveDamped(*lambda);
+        q_new = q + step;
+        const double c = eval(fr, q_new, false, ws);
+        if (c < cost) {
+          const double rel = (cost - c) / std::max(cost, 1e-300);
+          q = q_new;
+          cost = c;
+          *lambda = std::max(*lambda / 3.0, 1e-10);
+          improved = true;
+          ++accepted;
+          if (max_accepted > 1 &&
+              (rel < options.step_tolerance || step.norm() < options.step_tolerance))
+            accepted = max_accepted;
+          break;
+        }
+        *lambda = std::min(*lambda * 4.0, 1e12);
+      }
+      if (!improved) break;
+      if (accepted < max_accepted) cost = eval(fr, q, true, ws);
+    }
+    q_row = q.transpose();
+    return cost;
+  }
+
+  // BFGS on the frame's cost with a Gauss-Newton inverse-Hessian start and
+  // Armijo backtracking.
+  double bfgs(const FrameReadings& fr, Eigen::Ref<Eigen::RowVectorXd> q_row,
+              int max_steps, FrameWorkspace* ws) {
+    const int n = model.dof();
+    Eigen::VectorXd q = q_row.transpose();
+    double cost = eval(fr, q, true, ws);
+    accumulateNormalEquations(*ws, &H, &g);
+    A = H;
+    const double eps = 1e-9 * std::max(1.0, H.diagonal().maxCoeff());
+    for (int i = 0; i < n; ++i) A(i, i) += 1e-3 * H(i, i) + eps;
+    Eigen::MatrixXd Hinv = A.llt().solve(Eigen::MatrixXd::Identity(n, n));
+    if (!Hinv.allFinite()) Hinv = Eigen::MatrixXd::Identity(n, n);
+    Eigen::VectorXd grad = g, q_try(n), grad_new(n), s(n), y(n);
+    for (int it = 0; it < max_steps; ++it) {
+      Eigen::VectorXd dir = -Hinv * grad;
+      double slope = grad.dot(dir);
+      if (slope >= 0) {
+        dir = -grad;
+        slope = -grad.squaredNorm();
+        Hinv.setIdentity();
+      }
+      double alpha = 1.0, c = cost;
+      bool ok = false;
+      for (int ls = 0; ls < 20; ++ls, alpha *= 0.5) {
+        q_try = q + alpha * dir;
+        c = eval(fr, q_try, false, ws);
+        if (c <= cost + 1e-4 * alpha * slope) {
+          ok = true;
+          break;
+        }
+      }
+      if (!ok) break;
+      const double rel = (cost - c) / std::max(cost, 1e-300);
+      eval(fr, q_try, true, ws);
+      accumulateNormalEquations(*ws, &H, &grad_new);
+      s = q_try - q;
+      y = grad_new - grad;
+      q = q_try;
+      cost = c;
+      grad = grad_new;
+      const double sy = s.dot(y);
+      if (sy > 1e-300) {
+        const Eigen::VectorXd Hy = Hinv * y;
+        const double yHy = y.dot(Hy);
+        Hinv += ((sy + yHy) / (sy * sy)) * (s * s.transpose()) -
+                (Hy * s.transpose() + s * Hy.transpose()) / sy;
+      }
+      if (rel < options.step_tolerance || s.norm() < options.step_tolerance) break;
+    }
+    q_row = q.transpose();
+    return cost;
+  }
+};
+
+}  // namespace
+
+double qPhase(const MeasurementModel& model, const SensorParameters& theta,
+              const NoiseModel& noise, const RobustLoss& loss,
+              const Observations& obs, const QPhaseOptions& options,
+              std::vector<FrameWorkspace>* workspaces, QState* state) {
+  const int T = obs.num_frames;
+  const int threads = std::min<int>(resolveThreads(options.threads),
+                                    static_cast<int>(workspaces->size()));
+  if (state->lambda.size() != T) state->lambda = Eigen::VectorXd::Constant(T, 1e-3);
+  state->cost.resize(T);
+  std::vector<FrameSolver> solvers;
+  for (int i = 0; i < threads; ++i) solvers.emplace_back(model, theta, noise, loss, options);
+  parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
+    FrameSolver& solver = solvers[tid];
+    FrameWorkspace& ws = (*workspaces)[tid];
+    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+      const FrameReadings fr = frameReadings(obs, t);
+      auto q_row = state->q.row(t);
+      switch (options.method) {
+        case QPhaseMethod::kLmIter:
+          state->cost[t] = solver.lm(fr, q_row, &state->lambda[t], 1, &ws);
+          break;
+        case QPhaseMethod::kLmBatch:
+          state->cost[t] = solver.lm(fr, q_row, &state->lambda[t], options.max_steps, &ws);
+          break;
+        case QPhaseMethod::kBfgs:
+          state->cost[t] = solver.bfgs(fr, q_row, options.max_steps, &ws);
+          break;
+      }
+    }
+  });
+  return state->cost.sum();
+}
+
+double totalCost(const MeasurementModel& model, const SensorParameters& theta,
+                 const NoiseModel& noise, const RobustLoss& loss,
+                 const Observations& obs, const EvalOptions& eval, int threads,
+                 std::vector<FrameWorkspace>* workspaces, QState* state) {
+  const int T = obs.num_frames;
+  threads = std::min<int>(resolveThreads(threads), static_cast<int>(workspaces->size()));
+  EvalOptions e = eval;
+  e.jacobians = false;
+  e.theta_jacobians = false;
+  state->cost.resize(T);
+  parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
+    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+      Eigen::VectorXd q = state->q.row(t).transpose();
+      state->cost[t] = evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), q,
+                                     e, &(*workspaces)[tid]);
+    }
+  });
+  return state->cost.sum();
+}
+
+}  // namespace stac
