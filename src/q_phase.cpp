@@ -35,6 +35,7 @@ struct FrameSolver {
   const RobustLoss& loss;
   const QPhaseOptions& options;
   EvalOptions with_jac, no_jac;
+  Eigen::VectorXd lower, upper;
   Eigen::MatrixXd H, A;
   Eigen::VectorXd g, step, q_new;
 
@@ -48,7 +49,18 @@ struct FrameSolver {
     with_jac.theta_jacobians = false;
     no_jac.jacobians = false;
     no_jac.theta_jacobians = false;
+    // Joint angles stay within the URDF limits widened by 5% of the range:
+    // outside them lie mirror solutions of the marker geometry.
+    const RobotModel& r = m.robot();
+    lower = r.lowerLimits();
+    upper = r.upperLimits();
+    for (int i = 0; i < m.dof(); ++i) {
+      const double margin = 0.05 * (upper[i] - lower[i]);
+      if (std::isfinite(margin)) lower[i] -= margin, upper[i] += margin;
+    }
   }
+
+  void project(Eigen::VectorXd* q) const { *q = q->cwiseMax(lower).cwiseMin(upper); }
 
   double eval(const FrameReadings& fr, const Eigen::VectorXd& q, bool jac,
               FrameWorkspace* ws) {
@@ -80,6 +92,7 @@ struct FrameSolver {
       for (int attempt = 0; attempt < 8; ++attempt) {
         solveDamped(*lambda);
         q_new = q + step;
+        project(&q_new);
         const double c = eval(fr, q_new, false, ws);
         if (c < cost) {
           const double rel = (cost - c) / std::max(cost, 1e-300);
@@ -128,6 +141,7 @@ struct FrameSolver {
       bool ok = false;
       for (int ls = 0; ls < 20; ++ls, alpha *= 0.5) {
         q_try = q + alpha * dir;
+        project(&q_try);
         c = eval(fr, q_try, false, ws);
         if (c <= cost + 1e-4 * alpha * slope) {
           ok = true;
@@ -188,6 +202,33 @@ double qPhase(const MeasurementModel& model, const SensorParameters& theta,
           state->cost[t] = solver.bfgs(fr, q_row, options.max_steps, &ws);
           break;
       }
+    }
+  });
+  return state->cost.sum();
+}
+
+double trackingPass(const MeasurementModel& model, const SensorParameters& theta,
+                    const NoiseModel& noise, const RobustLoss& loss,
+                    const Observations& obs, const QPhaseOptions& options,
+                    const Eigen::VectorXd& start, int segments,
+                    std::vector<FrameWorkspace>* workspaces, QState* state) {
+  const int T = obs.num_frames;
+  const int threads = std::min<int>(resolveThreads(options.threads),
+                                    static_cast<int>(workspaces->size()));
+  state->lambda = Eigen::VectorXd::Constant(T, 1e-3);
+  state->cost.resize(T);
+  segments = std::max(1, std::min(segments, T));
+  std::vector<FrameSolver> solvers;
+  for (int i = 0; i < threads; ++i) solvers.emplace_back(model, theta, noise, loss, options);
+  parallelFor(segments, threads, [&](int seg, int tid) {
+    const int begin = static_cast<int>(static_cast<long>(T) * seg / segments);
+    const int end = static_cast<int>(static_cast<long>(T) * (seg + 1) / segments);
+    for (int t = begin; t < end; ++t) {
+      if (t == begin) state->q.row(t) = start.transpose();
+      else state->q.row(t) = state->q.row(t - 1);
+      state->cost[t] = solvers[tid].lm(frameReadings(obs, t), state->q.row(t),
+                                       &state->lambda[t], options.max_steps,
+                                       &(*workspaces)[tid]);
     }
   });
   return state->cost.sum();

@@ -38,6 +38,16 @@ double qPhase(const MeasurementModel& model, const SensorParameters& theta,
               const Observations& obs, const QPhaseOptions& options,
               std::vector<FrameWorkspace>* workspaces, QState* state);
 
+// Tracking: the frames are cut into `segments` fixed runs; the first frame
+// of each run starts from `start`, every other one from its predecessor's
+// solution, and each is solved by LM to convergence. Used to initialise q
+// from a poor seed without jumping between mirror solutions.
+double trackingPass(const MeasurementModel& model, const SensorParameters& theta,
+                    const NoiseModel& noise, const RobustLoss& loss,
+                    const Observations& obs, const QPhaseOptions& options,
+                    const Eigen::VectorXd& start, int segments,
+                    std::vector<FrameWorkspace>* workspaces, QState* state);
+
 // Total cost ½ Σ ρ at the current q (no Jacobians); fills state->cost.
 double totalCost(const MeasurementModel& model, const SensorParameters& theta,
                  const NoiseModel& noise, const RobustLoss& loss,

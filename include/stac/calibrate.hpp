@@ -1,0 +1,67 @@
+// Calibration: STAC alternation (paper §II-C) or one monolithic problem.
+//
+//   CalibrationOptions options;            // validated by isValid()
+//   CalibrationResult r = calibrate(robot, sensors, seed, observations,
+//                                   options, &joint_angles);
+//
+// The library never prints: progress goes to options.progress, a callback.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "stac/calibration.hpp"
+#include "stac/log.hpp"
+#include "stac/measurement.hpp"
+#include "stac/q_phase.hpp"
+#include "stac/robot_model.hpp"
+#include "stac/sensors.hpp"
+
+namespace stac {
+
+enum class Method { kStac, kJoint };
+
+struct IterationReport {
+  int iteration = 0;
+  double cost = 0.0;                         // ½ Σ ρ at the current σ
+  double rms[kNumSensorGroups] = {0, 0, 0};  // raw units (metres, volts...)
+  bool present[kNumSensorGroups] = {false, false, false};
+  double elapsed = 0.0;                      // seconds since the start
+  std::string stage;                         // "init" or "stac" or "joint"
+};
+
+struct CalibrationOptions {
+  Method method = Method::kStac;
+  QPhaseMethod q_phase = QPhaseMethod::kLmIter;
+  int max_iterations = 200;
+  double tolerance = 1e-7;     // stop when the relative cost decrease is below
+  int threads = 0;             // 0: all cores
+  LossKind loss = LossKind::kNone;
+  double loss_scale = 3.0;     // in units of σ
+  bool adapt_variance = true;
+  bool wide_basin_init = true; // marker-first initialisation (see calibrate.cpp)
+  bool coupled_steps = true;  // finish with coupled (q, θ) steps (schur.hpp)
+  int max_downweighted = 20;   // readings listed in the summary
+  std::function<void(const IterationReport&)> progress;
+
+  bool isValid(std::string* error) const;
+};
+
+// q0: initial joint angles (frames x dof), or nullptr for the neutral pose
+// (0 clamped into the limits) in every frame. joint_angles (optional)
+// receives the final q_t.
+CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
+                            const SensorParameters& seed, const Observations& obs,
+                            const CalibrationOptions& options,
+                            RowMatrix* joint_angles = nullptr,
+                            const RowMatrix* q0 = nullptr);
+
+// Per-sensor residual statistics in raw units at the given q and θ.
+void residualStatistics(const MeasurementModel& model, const SensorParameters& theta,
+                        const Observations& obs, const RowMatrix& q, int threads,
+                        CalibrationResult* result);
+
+// The neutral pose: 0 clamped into each joint's limits.
+Eigen::VectorXd neutralPose(const RobotModel& robot);
+
+}  // namespace stac

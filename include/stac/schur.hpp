@@ -1,0 +1,49 @@
+// The joint Gauss-Newton system of (q_1..q_T, θ) reduced onto θ by
+// eliminating every q_t (Schur complement), computed frame by frame in
+// parallel. It serves both the uncertainty of θ with the q_t marginalised
+// out and the coupled (q, θ) Levenberg-Marquardt step that lets the STAC
+// alternation finish quickly where q and θ are strongly coupled.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "stac/log.hpp"
+#include "stac/measurement.hpp"
+#include "stac/q_phase.hpp"
+
+namespace stac {
+
+struct ReducedSystem {
+  std::vector<int> free_index;    // θ entry of each reduced row
+  Eigen::MatrixXd S;              // H_θθ - Σ H_θq (H_qq + λD)⁻¹ H_qθ (+ λ diag)
+  Eigen::VectorXd g;              // g_θ - Σ H_θq (H_qq + λD)⁻¹ g_q
+  Eigen::VectorXd H_diag;         // diag(H_θθ) before damping
+  double cost = 0;                // ½ Σ ρ at the linearisation point
+};
+
+// The free θ entries (MeasurementModel::thetaFree) in order.
+std::vector<int> freeThetaIndex(const MeasurementModel& model);
+
+ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParameters& theta,
+                              const NoiseModel& noise, const RobustLoss& loss,
+                              const Observations& obs, const RowMatrix& q, double lambda,
+                              bool with_gradient, int threads,
+                              std::vector<FrameWorkspace>* ws,
+                              const EvalOptions& groups = EvalOptions());
+
+// θ ⊕ δ for a step over the free entries (rotation as a left perturbation).
+SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParameters& theta,
+                                const std::vector<int>& free_index,
+                                const Eigen::VectorXd& delta);
+
+// One coupled LM step on (q, θ): tries damping *lambda (adapting it) until
+// the total cost decreases; returns the new cost, or the old one (state
+// unchanged) if no damping helped.
+double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
+                   const RobustLoss& loss, const Observations& obs, int threads,
+                   std::vector<FrameWorkspace>* ws, double* lambda,
+                   SensorParameters* theta, QState* state,
+                   const EvalOptions& groups = EvalOptions());
+
+}  // namespace stac

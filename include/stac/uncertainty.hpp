@@ -1,0 +1,37 @@
+// Uncertainty and identifiability of θ with every q_t marginalised out.
+//
+// The Gauss-Newton information matrix of (q_1..q_T, θ) is block-arrowhead;
+// its Schur complement onto θ, S = H_θθ - Σ_t H_θq H_qq⁻¹ H_qθ, is the
+// information about θ alone. Eigen-directions of S (parameters scaled to
+// comparable units) with (near) zero information are directions the data
+// cannot determine: they are reported by name, and every parameter taking
+// part in one gets an infinite standard deviation. The others get
+// sqrt(diag(S⁺)).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "stac/calibration.hpp"
+#include "stac/log.hpp"
+#include "stac/measurement.hpp"
+
+namespace stac {
+
+struct UncertaintyResult {
+  Eigen::VectorXd std;            // per θ entry (MeasurementModel layout)
+  Eigen::MatrixXd information;    // S, free entries only (rows = free index)
+  std::vector<int> free_index;    // θ index of each row of `information`
+  std::vector<UnidentifiableDirection> unidentifiable;
+};
+
+UncertaintyResult estimateUncertainty(const MeasurementModel& model,
+                                      const SensorParameters& theta,
+                                      const NoiseModel& noise, const RobustLoss& loss,
+                                      const Observations& obs, const RowMatrix& q,
+                                      int threads, std::vector<FrameWorkspace>* ws);
+
+// Copies per-θ-entry standard deviations into the per-sensor structure.
+ParameterStd toParameterStd(const MeasurementModel& model, const Eigen::VectorXd& std);
+
+}  // namespace stac

@@ -1,0 +1,202 @@
+#include "stac/schur.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "stac/parallel.hpp"
+
+namespace stac {
+namespace {
+// Frames are summed in this many fixed blocks (independent of threads).
+constexpr int kBlocks = 16;
+constexpr int kBatch = 8;  // frames per rank update
+
+struct FrameSystem {
+  Eigen::MatrixXd Hqq, Hqt;
+  Eigen::VectorXd gq;
+};
+
+// Evaluates frame t and forms its q-blocks; accumulates the θθ block and
+// gradient into S/gt (lower triangle) when given.
+void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
+                 const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
+                 const Eigen::VectorXd& qt, int t, const std::vector<int>& free_of,
+                 FrameWorkspace* w, FrameSystem* fs, Eigen::MatrixXd* S, Eigen::VectorXd* gt,
+                 double* cost, const EvalOptions& groups) {
+  EvalOptions eo = groups;
+  eo.jacobians = true;
+  eo.theta_jacobians = true;
+  *cost += evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), qt, eo, w);
+  accumulateNormalEquations(*w, &fs->Hqq, &fs->gq);
+  fs->Hqt.setZero();
+  for (int i = 0; i < w->count; ++i) {
+    const ReadingJacobian& rj = w->readings[i];
+    const std::vector<int>& cols = *rj.q_cols;
+    for (int b = 0; b < rj.theta_count; ++b) {
+      const int fb = free_of[rj.theta_index[b]];
+      if (fb < 0) continue;
+      const auto jb = rj.Jtheta.col(b).head(rj.rows);
+      for (size_t a = 0; a < cols.size(); ++a) fs->Hqt(cols[a], fb) += rj.Jq.col(a).head(rj.rows).dot(jb);
+      if (!S) continue;
+      if (gt) (*gt)[fb] += jb.dot(rj.r.head(rj.rows));
+      for (int c = 0; c <= b; ++c) {
+        const int fc = free_of[rj.theta_index[c]];
+        if (fc >= 0) (*S)(std::max(fb, fc), std::min(fb, fc)) += rj.Jtheta.col(c).head(rj.rows).dot(jb);
+      }
+    }
+  }
+}
+
+void dampQ(double lambda, Eigen::MatrixXd* H) {
+  const double eps = 1e-12 * std::max(1.0, H->diagonal().maxCoeff());
+  for (int i = 0; i < H->rows(); ++i) (*H)(i, i) += lambda * (*H)(i, i) + eps;
+}
+}  // namespace
+
+std::vector<int> freeThetaIndex(const MeasurementModel& model) {
+  std::vector<int> idx;
+  for (int i = 0; i < model.thetaSize(); ++i)
+    if (model.thetaFree()[i]) idx.push_back(i);
+  return idx;
+}
+
+ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParameters& theta,
+                              const NoiseModel& noise, const RobustLoss& loss,
+                              const Observations& obs, const RowMatrix& q, double lambda,
+                              bool with_gradient, int threads,
+                              std::vector<FrameWorkspace>* ws, const EvalOptions& groups) {
+  ReducedSystem out;
+  out.free_index = freeThetaIndex(model);
+  const int nf = static_cast<int>(out.free_index.size());
+  const int dof = model.dof();
+  const int T = obs.num_frames;
+  std::vector<int> free_of(model.thetaSize(), -1);
+  for (int i = 0; i < nf; ++i) free_of[out.free_index[i]] = i;
+  std::vector<Eigen::MatrixXd> bS(kBlocks, Eigen::MatrixXd::Zero(nf, nf)), bH(kBlocks);
+  std::vector<Eigen::VectorXd> bg(kBlocks, Eigen::VectorXd::Zero(nf));
+  std::vector<double> bcost(kBlocks, 0.0);
+  threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
+  parallelFor(kBlocks, threads, [&](int block, int tid) {
+    FrameSystem fs{Eigen::MatrixXd(dof, dof), Eigen::MatrixXd(dof, nf), Eigen::VectorXd(dof)};
+    Eigen::MatrixXd X(dof * kBatch, nf), Y(dof * kBatch, 1);
+    Eigen::VectorXd qt(dof);
+    Eigen::MatrixXd& S = bS[block];
+    const int begin = static_cast<int>(static_cast<long>(T) * block / kBlocks);
+    const int end = static_cast<int>(static_cast<long>(T) * (block + 1) / kBlocks);
+    int in_batch = 0;
+    auto flush = [&]() {
+      if (in_batch == 0) return;
+      const int rows = in_batch * dof;
+      S.selfadjointView<Eigen::Lower>().rankUpdate(X.topRows(rows).transpose(), -1.0);
+      if (with_gradient) bg[block].noalias() -= X.topRows(rows).transpose() * Y.topRows(rows);
+      in_batch = 0;
+    };
+    for (int t = begin; t < end; ++t) {
+      qt = q.row(t).transpose();
+      frameSystem(model, theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, &S,
+                  with_gradient ? &bg[block] : nullptr, &bcost[block], groups);
+      dampQ(lambda, &fs.Hqq);
+      Eigen::LLT<Eigen::MatrixXd> llt(fs.Hqq);
+      X.middleRows(in_batch * dof, dof) = llt.matrixL().solve(fs.Hqt);
+      if (with_gradient) Y.middleRows(in_batch * dof, dof) = llt.matrixL().solve(fs.gq);
+      if (++in_batch == kBatch) flush();
+    }
+    flush();
+  });
+  out.S = Eigen::MatrixXd::Zero(nf, nf);
+  out.g = Eigen::VectorXd::Zero(nf);
+  for (int b = 0; b < kBlocks; ++b) {
+    out.S += bS[b];
+    out.g += bg[b];
+    out.cost += bcost[b];
+  }
+  // bS accumulated H_θθ (lower) minus the eliminated part; recover diag(H_θθ)
+  // for damping from a cheap second look is unnecessary: LM on the reduced
+  // system damps S's own diagonal instead (a standard choice).
+  out.S = out.S.selfadjointView<Eigen::Lower>();
+  out.H_diag = out.S.diagonal();
+  return out;
+}
+
+SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParameters& theta,
+                                const std::vector<int>& free_index,
+                                const Eigen::VectorXd& delta) {
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(model.thetaSize());
+  for (size_t i = 0; i < free_index.size(); ++i) full[free_index[i]] = delta[i];
+  SensorParameters out = theta;
+  const Eigen::Vector3d w = full.segment<3>(MeasurementModel::kRotationOffset);
+  if (w.norm() > 0)
+    out.mocap.rotation =
+        (Eigen::Quaterniond(Eigen::AngleAxisd(w.norm(), w.normalized())) * theta.mocap.rotation)
+            .normalized();
+  out.mocap.translation += full.segment<3>(MeasurementModel::kTranslationOffset);
+  for (size_t m = 0; m < out.marker_position.size(); ++m)
+    out.marker_position[m] += full.segment<3>(model.markerOffset(static_cast<int>(m)));
+  for (size_t s = 0; s < out.joint_sensor.size(); ++s) {
+    out.joint_sensor[s].gain += full[model.jointOffset(static_cast<int>(s))];
+    out.joint_sensor[s].bias += full[model.jointOffset(static_cast<int>(s)) + 1];
+  }
+  for (size_t s = 0; s < out.tendon_sensor.size(); ++s) {
+    out.tendon_sensor[s].gain += full[model.tendonOffset(static_cast<int>(s))];
+    out.tendon_sensor[s].bias += full[model.tendonOffset(static_cast<int>(s)) + 1];
+  }
+  return out;
+}
+
+double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
+                   const RobustLoss& loss, const Observations& obs, int threads,
+                   std::vector<FrameWorkspace>* ws, double* lambda,
+                   SensorParameters* theta, QState* state, const EvalOptions& groups) {
+  const int dof = model.dof();
+  const int T = obs.num_frames;
+  threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
+  const std::vector<int> free_index = freeThetaIndex(model);
+  const int nf = static_cast<int>(free_index.size());
+  std::vector<int> free_of(model.thetaSize(), -1);
+  for (int i = 0; i < nf; ++i) free_of[free_index[i]] = i;
+  double old_cost = -1;
+  for (int attempt = 0; attempt < 6; ++attempt) {
+    ReducedSystem rs = reduceOntoTheta(model, *theta, noise, loss, obs, state->q, *lambda,
+                                       true, threads, ws, groups);
+    if (old_cost < 0) old_cost = rs.cost;
+    Eigen::MatrixXd A = rs.S;
+    const double eps = 1e-12 * std::max(1.0, A.diagonal().maxCoeff());
+    for (int i = 0; i < nf; ++i) A(i, i) += *lambda * rs.H_diag[i] + eps;
+    const Eigen::VectorXd dtheta = nf > 0 ? Eigen::VectorXd(A.ldlt().solve(-rs.g))
+                                          : Eigen::VectorXd();
+    if (!dtheta.allFinite()) return old_cost;
+    // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ).
+    RowMatrix q_new = state->q;
+    parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
+      FrameSystem fs{Eigen::MatrixXd(dof, dof), Eigen::MatrixXd(dof, nf), Eigen::VectorXd(dof)};
+      Eigen::VectorXd qt(dof);
+      double dummy = 0;
+      const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+      for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+        qt = state->q.row(t).transpose();
+        frameSystem(model, *theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, nullptr,
+                    nullptr, &dummy, groups);
+        dampQ(*lambda, &fs.Hqq);
+        const Eigen::VectorXd rhs = fs.gq + (nf > 0 ? Eigen::VectorXd(fs.Hqt * dtheta)
+                                                    : Eigen::VectorXd::Zero(dof));
+        const Eigen::VectorXd dq = fs.Hqq.llt().solve(-rhs);
+        if (dq.allFinite()) q_new.row(t) += dq.transpose();
+      }
+    });
+    const SensorParameters theta_new = applyThetaStep(model, *theta, free_index, dtheta);
+    QState trial;
+    trial.q = q_new;
+    const double c = totalCost(model, theta_new, noise, loss, obs, groups, threads, ws, &trial);
+    if (c < old_cost) {
+      *theta = theta_new;
+      state->q = std::move(q_new);
+      *lambda = std::max(*lambda / 3.0, 1e-9);
+      return c;
+    }
+    *lambda = std::min(*lambda * 8.0, 1e8);
+  }
+  return old_cost;
+}
+
+}  // namespace stac

@@ -1,0 +1,133 @@
+// STAC on a small arm with known truth.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "stac/calibrate.hpp"
+#include "support/arm_fixture.hpp"
+
+namespace stac {
+namespace {
+
+// Every identifiable parameter within k reported standard deviations.
+void expectWithinStd(const test::ArmProblem& p, const CalibrationResult& r, double k) {
+  const SensorParameters& th = r.theta;
+  for (size_t j = 0; j < p.sensors.joint_sensors.size(); ++j) {
+    const GainBias& sd = r.std.joint_sensor[j];
+    if (std::isfinite(sd.gain))
+      EXPECT_LT(std::abs(th.joint_sensor[j].gain - p.truth.joint_sensor[j].gain), k * sd.gain + 1e-12)
+          << p.sensors.joint_sensors[j].name;
+    if (std::isfinite(sd.bias))
+      EXPECT_LT(std::abs(th.joint_sensor[j].bias - p.truth.joint_sensor[j].bias), k * sd.bias + 1e-12)
+          << p.sensors.joint_sensors[j].name;
+  }
+  for (size_t j = 0; j < p.sensors.tendon_sensors.size(); ++j) {
+    EXPECT_LT(std::abs(th.tendon_sensor[j].gain - p.truth.tendon_sensor[j].gain),
+              k * r.std.tendon_sensor[j].gain + 1e-12);
+    EXPECT_LT(std::abs(th.tendon_sensor[j].bias - p.truth.tendon_sensor[j].bias),
+              k * r.std.tendon_sensor[j].bias + 1e-12);
+  }
+  for (size_t m = 0; m < p.sensors.markers.size(); ++m)
+    for (int i = 0; i < 3; ++i)
+      if (std::isfinite(r.std.marker_position[m][i]))
+        EXPECT_LT(std::abs(th.marker_position[m][i] - p.truth.marker_position[m][i]),
+                  k * r.std.marker_position[m][i] + 1e-12)
+            << p.sensors.markers[m].name;
+  for (int i = 0; i < 3; ++i)
+    EXPECT_LT(std::abs(th.mocap.translation[i] - p.truth.mocap.translation[i]),
+              k * r.std.mocap_translation[i] + 1e-12);
+  const Eigen::AngleAxisd err(th.mocap.rotation * p.truth.mocap.rotation.inverse());
+  EXPECT_LT(err.angle(), k * r.std.mocap_rotation.norm() + 1e-12);
+}
+
+TEST(Stac, ArmFromPaperSeedingRecoversTruth) {
+  test::ArmProblem p = test::makeArmProblem(500, 11);
+  CalibrationOptions o;
+  o.threads = 2;
+  if (std::getenv("STAC_DEBUG"))
+    o.progress = [](const IterationReport& r) {
+      std::fprintf(stderr, "%s %d cost %.6g rms %.4g %.4g %.4g\n", r.stage.c_str(), r.iteration,
+                   r.cost, r.rms[0], r.rms[1], r.rms[2]);
+    };
+  CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
+  EXPECT_TRUE(r.summary.converged) << r.summary.iterations;
+  EXPECT_TRUE(r.summary.unidentifiable.empty())
+      << r.summary.unidentifiable.front().reason;
+  expectWithinStd(p, r, 4.0);
+  // Adapted σ close to the injected noise.
+  EXPECT_NEAR(r.summary.group_sigma[0], 0.002, 0.0004);
+  EXPECT_NEAR(r.summary.group_sigma[1], 0.01, 0.002);
+}
+
+}  // namespace
+}  // namespace stac
+
+namespace stac {
+namespace {
+
+CalibrationOptions quietOptions() {
+  CalibrationOptions o;
+  o.threads = 2;
+  return o;
+}
+
+TEST(Stac, EveryQPhaseVariantConverges) {
+  test::ArmProblem p = test::makeArmProblem(300, 5);
+  for (QPhaseMethod m : {QPhaseMethod::kLmIter, QPhaseMethod::kLmBatch, QPhaseMethod::kBfgs}) {
+    CalibrationOptions o = quietOptions();
+    o.q_phase = m;
+    CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
+    EXPECT_TRUE(r.summary.converged) << static_cast<int>(m);
+    expectWithinStd(p, r, 4.0);
+  }
+}
+
+TEST(Stac, ThirtyPercentMarkerDropout) {
+  test::ArmProblem p = test::makeArmProblem(600, 21, 1.0, 0.3);
+  CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, quietOptions());
+  EXPECT_TRUE(r.summary.converged);
+  expectWithinStd(p, r, 4.0);
+}
+
+TEST(Stac, FreeBaseMarkerIsReportedUnidentifiable) {
+  test::ArmProblem p = test::makeArmProblem(300, 8);
+  p.sensors.markers[0].fixed = false;  // m_base: now its position trades off
+  p.seed.marker_position[0].setZero();
+  CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, quietOptions());
+  ASSERT_FALSE(r.summary.unidentifiable.empty());
+  bool found = false;
+  for (const UnidentifiableDirection& d : r.summary.unidentifiable) {
+    const bool has_bias = std::find(d.parameters.begin(), d.parameters.end(),
+                                    "joint_sensors.j1_pot.bias") != d.parameters.end();
+    found |= has_bias && d.reason.find("j1 axis") != std::string::npos;
+  }
+  EXPECT_TRUE(found) << r.summary.unidentifiable.front().reason;
+  EXPECT_FALSE(std::isfinite(r.std.joint_sensor[0].bias));
+  // Identifiable parameters are still right.
+  EXPECT_NEAR(r.theta.joint_sensor[1].gain, p.truth.joint_sensor[1].gain,
+              4 * r.std.joint_sensor[1].gain);
+}
+
+TEST(Stac, IdenticalResultsWithOneAndTwoThreads) {
+  test::ArmProblem p = test::makeArmProblem(300, 9);
+  CalibrationOptions o1 = quietOptions(), o2 = quietOptions();
+  o1.threads = 1;
+  RowMatrix q1, q2;
+  CalibrationResult r1 = calibrate(p.robot, p.sensors, p.seed, p.obs, o1, &q1);
+  CalibrationResult r2 = calibrate(p.robot, p.sensors, p.seed, p.obs, o2, &q2);
+  EXPECT_EQ(r1.summary.iterations, r2.summary.iterations);
+  EXPECT_TRUE((q1.array() == q2.array()).all());
+  for (size_t j = 0; j < r1.theta.joint_sensor.size(); ++j) {
+    EXPECT_EQ(r1.theta.joint_sensor[j].gain, r2.theta.joint_sensor[j].gain);
+    EXPECT_EQ(r1.theta.joint_sensor[j].bias, r2.theta.joint_sensor[j].bias);
+  }
+  for (size_t m = 0; m < r1.theta.marker_position.size(); ++m)
+    EXPECT_TRUE(r1.theta.marker_position[m] == r2.theta.marker_position[m]);
+  EXPECT_EQ(r1.summary.final_cost, r2.summary.final_cost);
+}
+
+}  // namespace
+}  // namespace stac
