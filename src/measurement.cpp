@@ -2,6 +2,7 @@
 
 #include <ceres/loss_function.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "stac/sensor_models.hpp"
@@ -114,14 +115,15 @@ FrameWorkspace::FrameWorkspace(const MeasurementModel& model)
       readings(model.numReadingsMax()),
       row(model.dof()),
       point_jac(3, model.dof()) {
-  int k = 0;
+  // Readings fill the slots in order, skipping missing ones, so any slot may
+  // hold any sensor: size each for the widest.
+  size_t widest = 1;
   const SensorSet& s = model.sensors();
-  for (size_t m = 0; m < s.markers.size(); ++m, ++k)
-    readings[k].Jq.resize(3, model.markerColumns(static_cast<int>(m)).size());
-  for (size_t j = 0; j < s.joint_sensors.size(); ++j, ++k)
-    readings[k].Jq.resize(3, 1);
-  for (size_t j = 0; j < s.tendon_sensors.size(); ++j, ++k)
-    readings[k].Jq.resize(3, model.tendonColumns(static_cast<int>(j)).size());
+  for (size_t m = 0; m < s.markers.size(); ++m)
+    widest = std::max(widest, model.markerColumns(static_cast<int>(m)).size());
+  for (size_t j = 0; j < s.tendon_sensors.size(); ++j)
+    widest = std::max(widest, model.tendonColumns(static_cast<int>(j)).size());
+  for (ReadingJacobian& r : readings) r.Jq.resize(3, static_cast<Eigen::Index>(widest));
 }
 
 namespace {
