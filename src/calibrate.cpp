@@ -383,7 +383,19 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   CalibrationSummary& summary = result.summary;
   summary.method = options.method == Method::kStac ? "stac" : "joint";
   summary.frames = obs.num_frames;
-  const RobustLoss plain(LossKind::kNone);
+  // "Before": each q_t fitted to the seed θ (a few LM steps per frame).
+  {
+    QState seed_state = state;
+    QPhaseOptions qo;
+    qo.method = QPhaseMethod::kLmBatch;
+    qo.max_steps = 10;
+    qo.threads = threads;
+    qPhase(model, theta, noise, loss, obs, qo, &ws, &seed_state);
+    const PassStats before = costPass(model, theta, noise, seed_noise, loss, obs, seed_state.q,
+                                      false, threads, &ws);
+    for (int g = 0; g < kNumSensorGroups; ++g)
+      summary.before_rms[g] = before.count[g] > 0 ? std::sqrt(before.sse[g] / before.count[g]) : 0;
+  }
   PassStats st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, false,
                           threads, &ws);
   summary.initial_cost = st.cost;
@@ -593,6 +605,8 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   summary.iterations = iterations;
   summary.converged = converged;
   summary.final_cost = st.cost;
+  for (int g = 0; g < kNumSensorGroups; ++g)
+    summary.after_rms[g] = st.count[g] > 0 ? std::sqrt(st.sse[g] / st.count[g]) : 0;
   summary.unidentifiable = unc.unidentifiable;
   summary.downweighted = downweighted(model, theta, noise, loss, obs, state.q,
                                       options.max_downweighted, threads, &ws);
@@ -609,7 +623,6 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   summary.group_sigma[2] = rms_sigma(noise.tendon);
   summary.wall_time = std::chrono::duration<double>(Clock::now() - start).count();
   if (joint_angles) *joint_angles = state.q;
-  (void)plain;
   return result;
 }
 

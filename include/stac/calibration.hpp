@@ -48,6 +48,10 @@ struct CalibrationSummary {
   double wall_time = 0.0;    // seconds
   double group_sigma[kNumSensorGroups] = {0, 0, 0};
   bool group_present[kNumSensorGroups] = {false, false, false};
+  // RMS residual per group in raw units: with the seed θ (each q_t fitted
+  // to it) and after calibration.
+  double before_rms[kNumSensorGroups] = {0, 0, 0};
+  double after_rms[kNumSensorGroups] = {0, 0, 0};
   std::vector<UnidentifiableDirection> unidentifiable;
   std::vector<DownweightedReading> downweighted;
 };

@@ -1,0 +1,177 @@
+// stac_calib: calibrate a robot's sensors from a synchronized log (SPEC §4).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "common/cli.hpp"
+#include "common/outputs.hpp"
+#include "stac/calibrate.hpp"
+#include "stac/error.hpp"
+#include "stac/file_io.hpp"
+#include "stac/log.hpp"
+#include "stac/measurement.hpp"
+#include "stac/robot_model.hpp"
+#include "stac/sensors_file.hpp"
+
+namespace {
+
+using namespace stac;
+
+const std::vector<cli::Option> kOptions = {
+    {"urdf", "FILE", "robot description (URDF)", true},
+    {"log", "FILE", "synchronized readings (CSV, SPEC §2)", true},
+    {"sensors", "FILE", "sensors file with the seed (YAML); inferred from the log header if absent"},
+    {"output", "FILE", "calibration to write (default: calibration.yaml)"},
+    {"joint-angles", "FILE", "also write the estimated joint angles per frame (CSV)"},
+    {"method", "stac|joint", "alternating STAC (default) or one monolithic problem"},
+    {"q-phase", "lm-iter|lm-batch|bfgs", "per-frame solver of the q-phase (default lm-iter)"},
+    {"max-iterations", "N", "outer iterations at most (default 200)"},
+    {"tolerance", "TOL", "stop when the relative cost decrease is below TOL (default 1e-7)"},
+    {"threads", "N", "worker threads; 0 = all cores (default)"},
+    {"loss", "none|huber|cauchy", "robust loss per reading (default none)"},
+    {"loss-scale", "S", "robust loss scale in standard deviations (default 3)"},
+    {"no-adapt-variance", "", "keep every sigma at its seed value"},
+    {"mocap-units", "m|mm", "unit of the marker columns (default m)"},
+    {"quiet", "", "no progress lines on stderr"},
+};
+
+const char* kSynopsis =
+    "stac_calib --urdf robot.urdf --log data.csv [--sensors seed.yaml] [options]\n\n"
+    "Simultaneous Tracking And Calibration: estimates sensor gains and biases,\n"
+    "marker positions and the mocap frame together with the joint angles of\n"
+    "every frame, and writes the calibration (same schema as the sensors file).";
+
+const char* kGroupUnit[kNumSensorGroups] = {"m", "raw", "raw"};
+
+void printSummary(const RobotModel& robot, const SensorSet& sensors, const SensorParameters& seed,
+                  const CalibrationResult& r, const MeasurementModel& model,
+                  const std::string& output) {
+  const CalibrationSummary& s = r.summary;
+  std::ostringstream o;
+  char buf[256];
+  o << "STAC calibration of " << (robot.name().empty() ? "robot" : robot.name()) << ": "
+    << s.frames << " frames, " << robot.dof() << " joints, " << sensors.markers.size()
+    << " markers, " << sensors.joint_sensors.size() << " joint sensors, "
+    << sensors.tendon_sensors.size() << " tendon sensors\n";
+  std::snprintf(buf, sizeof buf, "method %s%s%s, %d iterations, %s, %.2f s\n", s.method.c_str(),
+                s.q_phase.empty() ? "" : " / q-phase ", s.q_phase.c_str(), s.iterations,
+                s.converged ? "converged" : "NOT converged (iteration limit)", s.wall_time);
+  o << buf;
+  o << "\nresidual RMS per group      before        after        sigma\n";
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    if (!s.group_present[g]) continue;
+    std::snprintf(buf, sizeof buf, "  %-8s (%-3s)       %12.6g %12.6g %12.6g\n",
+                  groupName(static_cast<SensorGroup>(g)), kGroupUnit[g], s.before_rms[g],
+                  s.after_rms[g], s.group_sigma[g]);
+    o << buf;
+  }
+  // Parameters that moved most, in their own typical units.
+  const std::vector<ParameterChange> moved = largestChanges(model, seed, r.theta, 8);
+  if (!moved.empty()) {
+    o << "\nparameters that moved most           seed          final\n";
+    for (const ParameterChange& c : moved) {
+      std::snprintf(buf, sizeof buf, "  %-32s %12.6g %14.6g\n", c.name.c_str(), c.before, c.after);
+      o << buf;
+    }
+  }
+  o << "\nunidentifiable: ";
+  if (s.unidentifiable.empty()) {
+    o << "none\n";
+  } else {
+    o << s.unidentifiable.size() << " direction(s) the data cannot determine (fix one of the "
+      << "parameters with `fixed: true`, or add markers):\n";
+    for (const UnidentifiableDirection& d : s.unidentifiable) {
+      o << "  - " << d.reason << "\n    parameters:";
+      for (const std::string& p : d.parameters) o << " " << p;
+      o << "\n";
+    }
+  }
+  if (!s.downweighted.empty()) {
+    o << "\nreadings the robust loss down-weighted most (frame, sensor, weight):\n";
+    for (const DownweightedReading& d : s.downweighted) {
+      std::snprintf(buf, sizeof buf, "  %8d  %-24s %.3g\n", d.frame, d.sensor.c_str(), d.weight);
+      o << buf;
+    }
+  }
+  o << "\ncalibration written to " << output << "\n";
+  std::cout << o.str();
+}
+
+int run(const cli::Args& args) {
+  const std::string urdf = args.get("urdf"), log_path = args.get("log");
+  const std::string sensors_path = args.get("sensors");
+  const std::string output = args.get("output", "calibration.yaml");
+  const std::string q_path = args.get("joint-angles");
+
+  CalibrationOptions options;
+  options.method = args.getChoice("method", {"stac", "joint"}, "stac") == "joint"
+                       ? Method::kJoint
+                       : Method::kStac;
+  const std::string qp = args.getChoice("q-phase", {"lm-iter", "lm-batch", "bfgs"}, "lm-iter");
+  options.q_phase = qp == "lm-batch" ? QPhaseMethod::kLmBatch
+                    : qp == "bfgs"   ? QPhaseMethod::kBfgs
+                                     : QPhaseMethod::kLmIter;
+  options.max_iterations = args.getInt("max-iterations", options.max_iterations);
+  options.tolerance = args.getDouble("tolerance", options.tolerance);
+  options.threads = args.getInt("threads", 0);
+  const std::string loss = args.getChoice("loss", {"none", "huber", "cauchy"}, "none");
+  options.loss = loss == "huber" ? LossKind::kHuber
+                 : loss == "cauchy" ? LossKind::kCauchy
+                                    : LossKind::kNone;
+  options.loss_scale = args.getDouble("loss-scale", options.loss_scale);
+  options.adapt_variance = !args.has("no-adapt-variance");
+  const double mocap_scale = args.getChoice("mocap-units", {"m", "mm"}, "m") == "mm" ? 1e-3 : 1.0;
+  std::string error;
+  if (options.max_iterations < 1) throw cli::UsageError("--max-iterations must be at least 1");
+  if (options.threads < 0) throw cli::UsageError("--threads must be >= 0 (0 = all cores)");
+  if (!options.isValid(&error)) throw cli::UsageError(error);
+
+  std::vector<std::string> inputs = {urdf, log_path};
+  if (!sensors_path.empty()) inputs.push_back(sensors_path);
+  std::vector<std::pair<std::string, std::string>> outputs = {{"--output", output}};
+  if (!q_path.empty()) outputs.emplace_back("--joint-angles", q_path);
+  checkOutputs(inputs, outputs);
+
+  const RobotModel robot = RobotModel::fromFile(urdf);
+  const Log log = readLog(log_path);
+  const SensorsFile sf = sensors_path.empty() ? inferSensorsFromLog(log, robot)
+                                              : loadSensorsFile(sensors_path, robot);
+  const Observations obs =
+      bindLog(log, sf.sensors, sensors_path.empty() ? log_path : sensors_path, mocap_scale);
+  if (obs.num_frames == 0) throw InputError(log_path, "the log has no data rows");
+
+  const bool quiet = args.has("quiet");
+  if (!quiet) {
+    options.progress = [](const IterationReport& r) {
+      char buf[256];
+      int n = std::snprintf(buf, sizeof buf, "%-5s %4d  cost %-12.6g", r.stage.c_str(),
+                            r.iteration, r.cost);
+      for (int g = 0; g < kNumSensorGroups; ++g)
+        if (r.present[g])
+          n += std::snprintf(buf + n, sizeof buf - n, "  rms %s %-10.4g",
+                             groupName(static_cast<SensorGroup>(g)), r.rms[g]);
+      std::snprintf(buf + n, sizeof buf - n, "  %.2f s", r.elapsed);
+      std::cerr << buf << std::endl;
+    };
+  }
+  RowMatrix q;
+  CalibrationResult result = calibrate(robot, sf.sensors, sf.theta, obs, options, &q);
+  result.summary.q_phase = options.method == Method::kStac ? qp : "";
+
+  // All outputs are complete in memory before the first is written.
+  const std::string yaml = sensorsToYaml(result.sensors, result.theta, &result);
+  const std::string q_csv = q_path.empty() ? "" : jointAnglesCsv(robot, obs, q);
+  writeFileAtomically(output, yaml);
+  if (!q_path.empty()) writeFileAtomically(q_path, q_csv);
+  const MeasurementModel model(robot, sf.sensors);
+  printSummary(robot, sf.sensors, sf.theta, result, model, output);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return stac::cli::runApp(argc, argv, "stac_calib", kSynopsis, kOptions, run);
+}
