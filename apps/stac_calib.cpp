@@ -18,6 +18,10 @@
 namespace {
 
 using namespace stac;
+using cli::ParameterChange;
+using cli::largestChanges;
+using cli::checkOutputs;
+using cli::jointAnglesCsv;
 
 const std::vector<cli::Option> kOptions = {
     {"urdf", "FILE", "robot description (URDF)", true},

@@ -155,3 +155,67 @@ TEST(Joint, MonolithicAndAlternationReachTheSameCost) {
 
 }  // namespace
 }  // namespace stac
+
+namespace stac {
+namespace {
+
+TEST(Stac, HuberLossSurvivesFivePercentOutliersAndListsThem) {
+  test::ArmProblem p = test::makeArmProblem(500, 12);
+  const auto outliers = test::addOutliers(p.sensors, 0.05, 99, &p.obs);
+  ASSERT_GT(outliers.size(), 50u);
+  CalibrationOptions o;
+  o.threads = 2;
+  o.loss = LossKind::kHuber;
+  o.max_downweighted = 20;
+  CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
+  EXPECT_TRUE(r.summary.converged);
+  expectWithinStd(p, r, 4.0);
+  ASSERT_EQ(r.summary.downweighted.size(), 20u);
+  int found = 0;
+  for (const DownweightedReading& d : r.summary.downweighted)
+    for (const auto& [t, name] : outliers) found += (t == d.frame && name == d.sensor);
+  EXPECT_EQ(found, 20);  // every listed reading is an injected outlier
+}
+
+TEST(Stac, ReportedStdMatchesTheSpreadOverNoiseSeeds) {
+  const int kSeeds = 12;
+  std::vector<CalibrationResult> results;
+  test::ArmProblem p0 = test::makeArmProblem(300, 4, 1.0, 0.0, 0);
+  for (int s = 0; s < kSeeds; ++s) {
+    test::ArmProblem p = test::makeArmProblem(300, 4, 1.0, 0.0, 100 + s);
+    CalibrationOptions o;
+    o.threads = 2;
+    results.push_back(calibrate(p.robot, p.sensors, p.seed, p.obs, o));
+  }
+  // Per joint sensor gain/bias and per marker coordinate: the empirical
+  // spread against the mean reported std.
+  auto check = [&](auto value, auto reported, const std::string& what) {
+    double mean = 0, var = 0, std_mean = 0;
+    for (const auto& r : results) mean += value(r) / kSeeds;
+    for (const auto& r : results) {
+      var += (value(r) - mean) * (value(r) - mean) / (kSeeds - 1);
+      std_mean += reported(r) / kSeeds;
+    }
+    const double spread = std::sqrt(var);
+    EXPECT_GT(std_mean, spread / 2) << what;
+    EXPECT_LT(std_mean, spread * 2) << what;
+  };
+  for (size_t j = 0; j < p0.sensors.joint_sensors.size(); ++j) {
+    check([j](const CalibrationResult& r) { return r.theta.joint_sensor[j].gain; },
+          [j](const CalibrationResult& r) { return r.std.joint_sensor[j].gain; },
+          p0.sensors.joint_sensors[j].name + ".gain");
+    check([j](const CalibrationResult& r) { return r.theta.joint_sensor[j].bias; },
+          [j](const CalibrationResult& r) { return r.std.joint_sensor[j].bias; },
+          p0.sensors.joint_sensors[j].name + ".bias");
+  }
+  for (size_t m = 0; m < p0.sensors.markers.size(); ++m) {
+    if (p0.sensors.markers[m].fixed) continue;
+    for (int i = 0; i < 3; ++i)
+      check([m, i](const CalibrationResult& r) { return r.theta.marker_position[m][i]; },
+            [m, i](const CalibrationResult& r) { return r.std.marker_position[m][i]; },
+            p0.sensors.markers[m].name);
+  }
+}
+
+}  // namespace
+}  // namespace stac

@@ -53,7 +53,8 @@ void simulateReadings(const MeasurementModel& model, const SensorParameters& tru
   }
 }
 
-ArmProblem makeArmProblem(int frames, unsigned seed, double noise_scale, double dropout) {
+ArmProblem makeArmProblem(int frames, unsigned seed, double noise_scale, double dropout,
+                          int noise_seed) {
   ArmProblem p{RobotModel::fromString(kArm, "arm4"), {}, {}, {}, {}, {}};
   SensorSet& s = p.sensors;
   const RobotModel& r = p.robot;
@@ -108,8 +109,36 @@ ArmProblem makeArmProblem(int frames, unsigned seed, double noise_scale, double 
     }
   }
   MeasurementModel model(p.robot, p.sensors);
+  if (noise_seed >= 0) rng.seed(static_cast<unsigned>(noise_seed) * 7919u + 17u);
   simulateReadings(model, p.truth, p.q_true, noise_scale, dropout, rng, &p.obs);
   return p;
+}
+
+std::vector<std::pair<int, std::string>> addOutliers(const SensorSet& sensors, double fraction,
+                                                     unsigned seed, Observations* obs) {
+  std::mt19937 rng(seed);
+  auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  std::vector<std::pair<int, std::string>> out;
+  for (int t = 0; t < obs->num_frames; ++t) {
+    for (size_t m = 0; m < sensors.markers.size(); ++m) {
+      if (uni(0, 1) >= fraction || std::isnan(obs->marker(t, 3 * m))) continue;
+      const Eigen::Vector3d dir = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+      const double mag = uni(0.05, 0.2);
+      for (int i = 0; i < 3; ++i) obs->marker(t, 3 * m + i) += mag * dir[i];
+      out.emplace_back(t, sensors.markers[m].name);
+    }
+    for (size_t j = 0; j < sensors.joint_sensors.size(); ++j) {
+      if (uni(0, 1) >= fraction) continue;
+      obs->joint(t, j) += (uni(0, 1) < 0.5 ? -1 : 1) * uni(20, 60) * sensors.joint_sensors[j].sigma;
+      out.emplace_back(t, sensors.joint_sensors[j].name);
+    }
+    for (size_t j = 0; j < sensors.tendon_sensors.size(); ++j) {
+      if (uni(0, 1) >= fraction) continue;
+      obs->tendon(t, j) += (uni(0, 1) < 0.5 ? -1 : 1) * uni(20, 60) * sensors.tendon_sensors[j].sigma;
+      out.emplace_back(t, sensors.tendon_sensors[j].name);
+    }
+  }
+  return out;
 }
 
 }  // namespace stac::test

@@ -3,6 +3,9 @@
 #pragma once
 
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
@@ -24,8 +27,15 @@ struct ArmProblem {
 // base marker and one marker on link 4 are fixed at their true positions:
 // that removes the two gauge freedoms (mocap rotation about j1 vs j1's bias;
 // j4's bias vs the free markers on link 4).
+// `noise_seed` (default: seed) draws the noise alone, so that several noise
+// draws can share one truth.
 ArmProblem makeArmProblem(int frames, unsigned seed, double noise_scale = 1.0,
-                          double dropout = 0.0);
+                          double dropout = 0.0, int noise_seed = -1);
+
+// Replaces a fraction of all readings by gross errors (20-60 σ for a scalar,
+// 5-20 cm for a marker); returns (frame, sensor name) of each.
+std::vector<std::pair<int, std::string>> addOutliers(const SensorSet& sensors, double fraction,
+                                                     unsigned seed, Observations* obs);
 
 // Fills obs with readings predicted from truth at q, plus Gaussian noise.
 void simulateReadings(const MeasurementModel& model, const SensorParameters& truth,
