@@ -1,0 +1,174 @@
+// Every analytic Jacobian of the residual assembly against central
+// differences: with respect to q and to θ, for every sensor type (marker,
+// joint sensor incl. a mimic follower, tendon path and coupling), plain and
+// robustified.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "stac/measurement.hpp"
+#include "stac/schur.hpp"
+#include "support/test_util.hpp"
+
+namespace stac {
+namespace {
+
+const char* kRobot = R"(<robot name="r">
+  <link name="base"/><link name="a"/><link name="b"/><link name="c"/><link name="d"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/>
+    <origin xyz="0 0 0.1" rpy="0.2 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="a"/><child link="b"/>
+    <origin xyz="0.2 0 0"/><axis xyz="0 1 1"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="j3" type="prismatic"><parent link="b"/><child link="c"/>
+    <origin xyz="0.1 0.05 0"/><axis xyz="1 0 0"/>
+    <limit lower="-0.1" upper="0.1" effort="1" velocity="1"/></joint>
+  <joint name="j4" type="revolute"><parent link="c"/><child link="d"/>
+    <origin xyz="0.1 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/>
+    <mimic joint="j2" multiplier="-0.6" offset="0.1"/></joint>
+</robot>)";
+
+struct Scene {
+  RobotModel robot = RobotModel::fromString(kRobot);
+  SensorSet sensors;
+  SensorParameters theta;
+  Observations obs;
+  Scene() {
+    std::mt19937 rng(3);
+    auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+    for (const char* l : {"b", "d", "base"}) {
+      MarkerConfig m;
+      m.name = std::string("m_") + l;
+      m.link_name = l;
+      m.link = *robot.linkIndex(l);
+      m.sigma = 0.002;
+      sensors.markers.push_back(m);
+      theta.marker_position.emplace_back(uni(-0.05, 0.05), uni(-0.05, 0.05), uni(-0.05, 0.05));
+    }
+    for (const char* j : {"j1", "j4"}) {  // j4 is a mimic follower
+      JointSensorConfig s;
+      s.name = std::string(j) + "_pot";
+      s.joint_name = j;
+      s.joint = *robot.movableJointIndex(j);
+      s.sigma = 0.01;
+      sensors.joint_sensors.push_back(s);
+      theta.joint_sensor.push_back({uni(-2, 2), uni(-1, 1)});
+    }
+    TendonSensorConfig path;
+    path.name = "path";
+    path.path = {{"a", *robot.linkIndex("a"), {0.02, 0.01, 0}},
+                 {"b", *robot.linkIndex("b"), {0.03, -0.02, 0.01}},
+                 {"d", *robot.linkIndex("d"), {0.01, 0.02, 0.02}}};
+    path.sigma = 0.01;
+    TendonSensorConfig coupling;
+    coupling.name = "coupling";
+    coupling.kind = TendonSensorConfig::Kind::kCoupling;
+    coupling.coupling = {{"j1", *robot.movableJointIndex("j1"), 0.01},
+                         {"j4", *robot.movableJointIndex("j4"), -0.007}};
+    coupling.sigma = 0.001;
+    sensors.tendon_sensors = {path, coupling};
+    theta.tendon_sensor = {{uni(10, 30), uni(-1, 1)}, {uni(-30, -10), uni(-1, 1)}};
+    theta.mocap.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized()));
+    theta.mocap.translation = Eigen::Vector3d(0.3, -0.2, 1.0);
+    obs.num_frames = 1;
+    obs.marker = RowMatrix::Zero(1, 9);
+    obs.joint = RowMatrix::Zero(1, 2);
+    obs.tendon = RowMatrix::Zero(1, 2);
+    for (int i = 0; i < 9; ++i) obs.marker(0, i) = uni(-1, 1);
+    for (int i = 0; i < 2; ++i) obs.joint(0, i) = uni(-1, 1), obs.tendon(0, i) = uni(-1, 1);
+  }
+};
+
+// All whitened residuals of the frame stacked, in reading order.
+Eigen::VectorXd residuals(const MeasurementModel& model, const SensorParameters& theta,
+                          const RobustLoss& loss, const Observations& obs,
+                          const Eigen::VectorXd& q) {
+  FrameWorkspace ws(model);
+  EvalOptions eo;
+  eo.jacobians = false;
+  evaluateFrame(model, theta, NoiseModel::fromSeeds(model.sensors()), loss,
+                frameReadings(obs, 0), q, eo, &ws);
+  std::vector<double> r;
+  for (int i = 0; i < ws.count; ++i)
+    for (int k = 0; k < ws.readings[i].rows; ++k) r.push_back(ws.readings[i].r[k]);
+  return Eigen::Map<Eigen::VectorXd>(r.data(), r.size());
+}
+
+void checkJacobians(const RobustLoss& loss, double obs_scale) {
+  Scene s;
+  s.obs.marker *= obs_scale;
+  const MeasurementModel model(s.robot, s.sensors);
+  const NoiseModel noise = NoiseModel::fromSeeds(s.sensors);
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::VectorXd q = test::randomQ(s.robot, rng);
+    FrameWorkspace ws(model);
+    EvalOptions eo;
+    eo.theta_jacobians = true;
+    evaluateFrame(model, s.theta, noise, loss, frameReadings(s.obs, 0), q, eo, &ws);
+    // Assemble dense analytic Jacobians.
+    const Eigen::VectorXd r0 = residuals(model, s.theta, loss, s.obs, q);
+    Eigen::MatrixXd Jq = Eigen::MatrixXd::Zero(r0.size(), model.dof());
+    Eigen::MatrixXd Jt = Eigen::MatrixXd::Zero(r0.size(), model.thetaSize());
+    int row = 0;
+    for (int i = 0; i < ws.count; ++i) {
+      const ReadingJacobian& rj = ws.readings[i];
+      for (int k = 0; k < rj.rows; ++k, ++row) {
+        for (size_t c = 0; c < rj.q_cols->size(); ++c) Jq(row, (*rj.q_cols)[c]) = rj.Jq(k, c);
+        for (int c = 0; c < rj.theta_count; ++c) Jt(row, rj.theta_index[c]) += rj.Jtheta(k, c);
+      }
+    }
+    const double h = 1e-6;
+    for (int j = 0; j < model.dof(); ++j) {
+      Eigen::VectorXd qp = q, qm = q;
+      qp[j] += h;
+      qm[j] -= h;
+      const Eigen::VectorXd fd = (residuals(model, s.theta, loss, s.obs, qp) -
+                                  residuals(model, s.theta, loss, s.obs, qm)) / (2 * h);
+      EXPECT_LT((fd - Jq.col(j)).norm(), 1e-6 * std::max(1.0, fd.norm())) << "q" << j;
+    }
+    const std::vector<int> all = freeThetaIndex(model);
+    for (int k : all) {
+      Eigen::VectorXd step = Eigen::VectorXd::Zero(all.size());
+      step[k] = h;
+      const Eigen::VectorXd fd =
+          (residuals(model, applyThetaStep(model, s.theta, all, step), loss, s.obs, q) -
+           residuals(model, applyThetaStep(model, s.theta, all, -step), loss, s.obs, q)) / (2 * h);
+      EXPECT_LT((fd - Jt.col(k)).norm(), 1e-6 * std::max(1.0, fd.norm()))
+          << model.thetaNames()[k];
+    }
+  }
+}
+
+TEST(Measurement, JacobiansMatchCentralDifferences) { checkJacobians(RobustLoss(), 1.0); }
+
+TEST(Measurement, RobustifiedJacobiansMatchCentralDifferences) {
+  // Large residuals put many readings in the loss's robust region.
+  checkJacobians(RobustLoss(LossKind::kHuber, 2.0), 1.0);
+  checkJacobians(RobustLoss(LossKind::kCauchy, 1.5), 1.0);
+}
+
+TEST(Measurement, RobustCostIsHalfTheSumOfRho) {
+  Scene s;
+  const MeasurementModel model(s.robot, s.sensors);
+  const RobustLoss huber(LossKind::kHuber, 2.0);
+  FrameWorkspace ws(model);
+  EvalOptions eo;
+  const Eigen::VectorXd q = Eigen::VectorXd::Zero(model.dof());
+  const double cost = evaluateFrame(model, s.theta, NoiseModel::fromSeeds(s.sensors), huber,
+                                    frameReadings(s.obs, 0), q, eo, &ws);
+  double sum = 0, check = 0;
+  for (int i = 0; i < ws.count; ++i) {
+    double rho[3];
+    huber.evaluate(ws.readings[i].s, rho);
+    sum += rho[0];
+    check += ws.readings[i].r.head(ws.readings[i].rows).squaredNorm();
+  }
+  EXPECT_NEAR(cost, 0.5 * sum, 1e-9 * sum);
+  EXPECT_NEAR(check, sum, 1e-9 * sum);  // the robustified residual's norm² is ρ
+}
+
+}  // namespace
+}  // namespace stac
