@@ -17,12 +17,14 @@ void expectWithinStd(const test::ArmProblem& p, const CalibrationResult& r, doub
   const SensorParameters& th = r.theta;
   for (size_t j = 0; j < p.sensors.joint_sensors.size(); ++j) {
     const GainBias& sd = r.std.joint_sensor[j];
-    if (std::isfinite(sd.gain))
+    if (std::isfinite(sd.gain)) {
       EXPECT_LT(std::abs(th.joint_sensor[j].gain - p.truth.joint_sensor[j].gain), k * sd.gain + 1e-12)
           << p.sensors.joint_sensors[j].name;
-    if (std::isfinite(sd.bias))
+    }
+    if (std::isfinite(sd.bias)) {
       EXPECT_LT(std::abs(th.joint_sensor[j].bias - p.truth.joint_sensor[j].bias), k * sd.bias + 1e-12)
           << p.sensors.joint_sensors[j].name;
+    }
   }
   for (size_t j = 0; j < p.sensors.tendon_sensors.size(); ++j) {
     EXPECT_LT(std::abs(th.tendon_sensor[j].gain - p.truth.tendon_sensor[j].gain),
@@ -32,10 +34,11 @@ void expectWithinStd(const test::ArmProblem& p, const CalibrationResult& r, doub
   }
   for (size_t m = 0; m < p.sensors.markers.size(); ++m)
     for (int i = 0; i < 3; ++i)
-      if (std::isfinite(r.std.marker_position[m][i]))
+      if (std::isfinite(r.std.marker_position[m][i])) {
         EXPECT_LT(std::abs(th.marker_position[m][i] - p.truth.marker_position[m][i]),
                   k * r.std.marker_position[m][i] + 1e-12)
             << p.sensors.markers[m].name;
+      }
   for (int i = 0; i < 3; ++i)
     EXPECT_LT(std::abs(th.mocap.translation[i] - p.truth.mocap.translation[i]),
               k * r.std.mocap_translation[i] + 1e-12);

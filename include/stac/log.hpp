@@ -22,6 +22,7 @@ struct Log {
   std::vector<double> time;          // one per frame when time_name != ""
   RowMatrix values;                  // frames x columns; NaN = missing
   std::vector<int> line_of_frame;    // 1-based source line of each frame
+  int header_line = 1;               // 1-based line of the header
 
   int numFrames() const { return static_cast<int>(values.rows()); }
   bool hasTime() const { return !time_name.empty(); }
