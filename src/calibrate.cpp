@@ -419,17 +419,31 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
     if (!guesses.empty()) {
       // Pick each guess's sign on a subsample of frames.
       std::vector<int> sub;
-      const int n_sub = std::min(obs.num_frames, 300);
+      const int n_sub = std::min(obs.num_frames, 150);
       for (int i = 0; i < n_sub; ++i)
         sub.push_back(static_cast<int>(static_cast<long>(i) * obs.num_frames / n_sub));
       const Observations so = selectFrames(obs, sub);
       QState ss;
       ss.q = neutralPose(robot).transpose().replicate(so.num_frames, 1);
+      // A candidate's score: how well the markers fit once the mocap frame
+      // and markers are re-solved in closed form and the joints no pot
+      // covers (gimbals driven by linear pots, say) follow the markers.
+      QPhaseOptions free_only = qo;
+      free_only.method = QPhaseMethod::kLmBatch;
+      free_only.max_steps = 8;
+      free_only.frozen.assign(robot.dof(), false);
+      bool any_free = false;
+      for (const PotGuess& g : guesses) free_only.frozen[g.column] = true;
+      for (int j = 0; j < robot.dof(); ++j) any_free |= !free_only.frozen[j];
       auto markerCost = [&](SensorParameters* th) {
+        ss.q = neutralPose(robot).transpose().replicate(so.num_frames, 1);
         applyPotGuesses(guesses, so, &ss.q);
-        if (marker_group_free) {
-          initialiseMarkerGroup(model, so, ss, 2, threads, &ws, th);
-          thetaPhase(model, noise, loss, so, ss, to, &ws, th);
+        for (int round = 0; round < (any_free ? 2 : 1); ++round) {
+          if (marker_group_free) {
+            initialiseMarkerGroup(model, so, ss, 2, threads, &ws, th);
+            thetaPhase(model, noise, loss, so, ss, to, &ws, th);
+          }
+          if (any_free) qPhase(model, *th, noise, loss, so, free_only, &ws, &ss);
         }
         return totalCost(model, *th, noise, loss, so, qo.eval, threads, &ws, &ss);
       };
@@ -497,7 +511,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
       initialiseMarkerGroup(model, obs, state, 3, threads, &ws, &theta);
     double prev = -1, init_lambda = 1e-3;
     const bool all_covered = static_cast<int>(guesses.size()) == robot.dof();
-    for (int it = 0; it < 50; ++it) {
+    for (int it = 0; it < 30; ++it) {
       double c = 0;
       if (it < 2 && guesses.empty()) {
         // No pot to guess from: track through time from the neutral pose
@@ -512,7 +526,8 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
       }
       if (marker_group_free || !guesses.empty())
         thetaPhase(model, noise, loss, obs, state, to, &ws, &theta);
-      if (options.coupled_steps && it >= 3)
+      // Coupled steps once the alternation stalls (they cost more).
+      if (options.coupled_steps && prev > 0 && prev - c < 1e-2 * prev)
         c = coupledStep(model, noise, loss, obs, threads, &ws, &init_lambda, &theta, &state,
                         qo.eval);
       if (prev > 0 && std::abs(prev - c) <= 1e-4 * prev) break;
@@ -568,7 +583,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
       if (options.coupled_steps) {
         EvalOptions eo;
         const double c_alt = totalCost(model, theta, noise, loss, obs, eo, threads, &ws, &state);
-        if ((cost - c_alt) < 0.05 * cost || it > 10)
+        if (cost - c_alt < 1e-2 * cost)
           coupledStep(model, noise, loss, obs, threads, &ws, &lambda, &theta, &state);
       }
       st = costPass(model, theta, noise, seed_noise, loss, obs, state.q,

@@ -74,8 +74,16 @@ struct FrameSolver {
     const double eps = 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
     A = H;
     for (int i = 0; i < n; ++i) A(i, i) += lambda * H(i, i) + eps;
+    Eigen::VectorXd rhs = -g;
+    for (int i = 0; i < static_cast<int>(options.frozen.size()); ++i) {
+      if (!options.frozen[i]) continue;
+      A.row(i).setZero();
+      A.col(i).setZero();
+      A(i, i) = 1.0;
+      rhs[i] = 0.0;
+    }
     Eigen::LLT<Eigen::MatrixXd> llt(A);
-    step = llt.solve(-g);
+    step = llt.solve(rhs);
     if (llt.info() != Eigen::Success || !step.allFinite()) step.setZero();
   }
 

@@ -22,6 +22,7 @@ struct QPhaseOptions {
   double step_tolerance = 1e-10;
   int threads = 0;
   EvalOptions eval;         // group weights; jacobian flags are set inside
+  std::vector<bool> frozen; // q columns held at their value (empty: none)
 };
 
 // Per-frame solver state carried across outer iterations (warm start).
