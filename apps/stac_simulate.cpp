@@ -1,0 +1,166 @@
+// stac_simulate: synthetic data from a known truth (SPEC §4).
+//
+//   stac_simulate --urdf robot.urdf --sensors truth.yaml --frames N
+//                 --log data.csv [--joint-angles q_true.csv] [--seed S]
+//                 [--rate HZ] [--noise-scale K] [--dropout P] [--outliers P]
+#include <cerrno>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "stac/error.hpp"
+#include "stac/file_io.hpp"
+#include "stac/log.hpp"
+#include "stac/measurement.hpp"
+#include "stac/robot_model.hpp"
+#include "stac/sensors_file.hpp"
+#include "stac/simulate.hpp"
+
+namespace {
+
+using stac::cli::Args;
+using stac::cli::Option;
+using stac::cli::UsageError;
+namespace fs = std::filesystem;
+
+const char* kSynopsis =
+    "usage: stac_simulate --urdf robot.urdf --sensors truth.yaml --frames N\n"
+    "                     --log data.csv [--joint-angles q_true.csv] [--seed S]\n"
+    "                     [--rate HZ] [--noise-scale K] [--dropout P] [--outliers P]\n"
+    "\n"
+    "Simulates smooth random motion inside the joint limits and the readings of\n"
+    "every sensor in truth.yaml, with Gaussian noise of each sensor's sigma times\n"
+    "K, dropped marker readings and gross outliers. The same seed gives the same\n"
+    "files, byte for byte.";
+
+const std::vector<Option> kOptions = {
+    {"urdf", "FILE", "robot model (URDF)", true},
+    {"sensors", "FILE", "the true sensor parameters (YAML, SPEC §3)", true},
+    {"frames", "N", "number of frames (>= 1)", true},
+    {"log", "FILE", "output log (CSV, SPEC §2)", true},
+    {"joint-angles", "FILE", "also write the true joint angles (CSV)", false},
+    {"seed", "S", "random seed, a non-negative integer (default 1)", false},
+    {"rate", "HZ", "sample rate in Hz (default 100)", false},
+    {"noise-scale", "K", "noise = sensor sigma * K (default 1; 0: noise-free)", false},
+    {"dropout", "P", "probability that a marker is missing in a frame (default 0)", false},
+    {"outliers", "P", "fraction of readings replaced by gross errors (default 0)", false},
+};
+
+std::uint64_t parseSeed(const Args& args) {
+  if (!args.has("seed")) return 1;
+  const std::string s = args.get("seed");
+  const bool digits =
+      !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+  errno = 0;
+  char* end = nullptr;
+  const unsigned long long v = digits ? std::strtoull(s.c_str(), &end, 10) : 0;
+  if (!digits || errno == ERANGE || *end != '\0')
+    throw UsageError("--seed expects a non-negative integer (at most 2^64-1), got '" +
+                     s + "'");
+  return static_cast<std::uint64_t>(v);
+}
+
+// Absolute, normalised form of a path that may not exist yet.
+fs::path normalised(const std::string& p) {
+  std::error_code ec;
+  fs::path n = fs::weakly_canonical(fs::absolute(p, ec), ec);
+  return ec ? fs::path(p).lexically_normal() : n;
+}
+
+bool samePath(const std::string& a, const std::string& b) {
+  return stac::sameFile(a, b) || normalised(a) == normalised(b);
+}
+
+// An output must not be an input, nor the other output, and its folder must
+// exist.
+void checkOutput(const Args& args, const std::string& option) {
+  const std::string out = args.get(option);
+  if (out.empty()) throw UsageError("--" + option + " needs a file name");
+  for (const char* input : {"urdf", "sensors"})
+    if (samePath(out, args.get(input)))
+      throw UsageError("--" + option + " '" + out + "' is the --" + input +
+                       " input; refusing to overwrite it");
+  std::error_code ec;
+  if (fs::is_directory(out, ec))
+    throw UsageError("--" + option + " '" + out + "' is a directory");
+  const fs::path dir = normalised(out).parent_path();
+  if (!dir.empty() && !fs::is_directory(dir, ec))
+    throw UsageError("--" + option + " '" + out + "': folder '" + dir.string() +
+                     "' does not exist");
+}
+
+// writeLog goes through a temporary file renamed into place: a failure
+// leaves no partial file. It is the user's folder that failed, not us: exit 2.
+void writeOutput(const std::string& path, const stac::Log& log) {
+  try {
+    stac::writeLog(path, log);
+  } catch (const stac::InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw stac::InputError(path, std::string("cannot write: ") + e.what());
+  }
+}
+
+int run(const Args& args) {
+  stac::SimulationOptions options;
+  options.frames = args.getInt("frames", 0);
+  options.rate_hz = args.getDouble("rate", options.rate_hz);
+  options.noise_scale = args.getDouble("noise-scale", options.noise_scale);
+  options.dropout = args.getDouble("dropout", options.dropout);
+  options.outliers = args.getDouble("outliers", options.outliers);
+  options.seed = parseSeed(args);
+  if (options.frames < 1)
+    throw UsageError("--frames must be at least 1, got " + args.get("frames"));
+  if (!(options.rate_hz > 0)) throw UsageError("--rate must be positive, got " + args.get("rate"));
+  if (!(options.noise_scale >= 0))
+    throw UsageError("--noise-scale must be non-negative, got " + args.get("noise-scale"));
+  if (!(options.dropout >= 0 && options.dropout <= 1))
+    throw UsageError("--dropout must be in [0, 1], got " + args.get("dropout"));
+  if (!(options.outliers >= 0 && options.outliers <= 1))
+    throw UsageError("--outliers must be in [0, 1], got " + args.get("outliers"));
+  std::string error;
+  if (!options.isValid(&error)) throw UsageError(error);
+
+  const std::string log_path = args.get("log");
+  const std::string q_path = args.get("joint-angles");
+  checkOutput(args, "log");
+  if (args.has("joint-angles")) {
+    checkOutput(args, "joint-angles");
+    if (samePath(q_path, log_path))
+      throw UsageError("--joint-angles and --log name the same file '" + log_path + "'");
+  }
+
+  const stac::RobotModel robot = stac::RobotModel::fromFile(args.get("urdf"));
+  const stac::SensorsFile truth = stac::loadSensorsFile(args.get("sensors"), robot);
+  const stac::MeasurementModel model(robot, truth.sensors);
+  stac::Simulation sim = stac::simulate(model, truth.theta, options);
+  sim.data.log.path = log_path;
+
+  // Everything is computed before anything is written.
+  stac::Log q_log;
+  if (args.has("joint-angles")) {
+    q_log = stac::jointAnglesLog(robot, sim.q, sim.data.log.time);
+    q_log.path = q_path;
+  }
+  writeOutput(log_path, sim.data.log);
+  if (args.has("joint-angles")) writeOutput(q_path, q_log);
+
+  const stac::SensorSet& s = truth.sensors;
+  std::cerr << "stac_simulate: " << options.frames << " frames at " << options.rate_hz
+            << " Hz of " << s.joint_sensors.size() << " joint sensors, "
+            << s.tendon_sensors.size() << " tendon sensors, " << s.markers.size()
+            << " markers (seed " << options.seed << ", " << sim.data.outliers.size()
+            << " outliers) -> " << log_path
+            << (q_path.empty() ? "" : ", joint angles -> " + q_path) << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return stac::cli::runApp(argc, argv, "stac_simulate", kSynopsis, kOptions, run);
+}
