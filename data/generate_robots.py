@@ -248,9 +248,6 @@ def make_humanoid38():
     hinge("head_yaw", "neck", "head", (0, 0, 0.05), (0, 0, 1), -1.0, 1.0)
     hinge("jaw", "head", "jaw_link", (0.03, 0, -0.02), (0, 1, 0), 0.0, 0.4)
     for side, sy in (("l", 1), ("r", -1)):
-        e = hinge(side + "_eye_yaw", "head", side + "_eye_socket", (0.05, sy * 0.025, 0.04), (0, 0, 1), -0.5, 0.5)
-        hinge(side + "_eye_pitch", e, side + "_eye", (0, 0, 0), (0, 1, 0), -0.4, 0.4)
-    for side, sy in (("l", 1), ("r", -1)):
         a = hinge(side + "_shoulder_pitch", "torso", side + "_shoulder", (0, sy * 0.1, 0.16), (0, 1, 0), -2.0, 1.0)
         a = hinge(side + "_shoulder_roll", a, side + "_upper_arm", (0, sy * 0.03, 0), (1, 0, 0),
                   -0.3 if sy > 0 else -1.5, 1.5 if sy > 0 else 0.3)
@@ -260,6 +257,8 @@ def make_humanoid38():
         gimbal(r, s, side + "_wrist", a, side + "_hand", (0, 0, -0.05), ("pitch", (0, 1, 0)),
                ("roll", (1, 0, 0)), 0.6, 0.5, 0.03, -0.03, r=0.02)
         hinge(side + "_fingers", side + "_hand", side + "_fingers_link", (0, 0, -0.05), (0, 1, 0), 0.0, 1.2)
+        hinge(side + "_thumb", side + "_hand", side + "_thumb_link", (0.02, sy * 0.015, -0.02), (1, 0, 0),
+              -0.8 if sy > 0 else 0.0, 0.0 if sy > 0 else 0.8)
     for side, sy in (("l", 1), ("r", -1)):
         a = hinge(side + "_hip_yaw", "waist", side + "_hip", (0, sy * 0.05, -0.05), (0, 0, 1), -0.6, 0.6)
         a = hinge(side + "_hip_roll", a, side + "_hip_link", (0, 0, -0.02), (1, 0, 0),
@@ -267,38 +266,28 @@ def make_humanoid38():
         a = hinge(side + "_hip_pitch", a, side + "_thigh", (0, 0, 0), (0, 1, 0), -1.2, 0.6)
         a = hinge(side + "_knee", a, side + "_shank", (0, 0, -0.13), (0, 1, 0), 0.0, 1.8)
         a = hinge(side + "_ankle_pitch", a, side + "_ankle", (0, 0, -0.12), (0, 1, 0), -0.6, 0.6)
-        hinge(side + "_ankle_roll", a, side + "_foot", (0, 0, 0), (1, 0, 0), -0.4, 0.4)
+        a = hinge(side + "_ankle_roll", a, side + "_foot", (0, 0, 0), (1, 0, 0), -0.4, 0.4)
+        hinge(side + "_toe", a, side + "_toe_link", (0.06, 0, -0.03), (0, 1, 0), -0.5, 0.5)
     assert len(hinges) == 30, len(hinges)
     for h in hinges:
         s.pot(h)
-    # Markers on every other link counting from the base (gimbal middles are
-    # not bodies you can put a marker on: their successor counts instead).
-    depth = {"waist": 0}
-    for j in r.joints:
-        depth[j["child"]] = depth[j["parent"]] + (0 if j["type"] == "fixed" else 1)
-    children = {}
-    for j in r.joints:
-        children.setdefault(j["parent"], []).append(j["child"])
-    leaves = {l for l in r.links if l not in children}
-    marked = [l for l in r.links if depth[l] % 2 == 0 and not l.endswith("_gimbal")]
-    for l in r.links:
-        if l.endswith("_gimbal") and depth[l] % 2 == 0:
-            marked += children[l]
-    marked = [l for l in dict.fromkeys(marked)]
+    # 24 markers on every other link counting from the base, chosen so that
+    # every joint moves at least one marker; the leaves' markers (and one on
+    # the base) are fixed in the seed at their CAD positions.
     s.marker("m_waist", "waist", fixed=True, pos=[0.04, -0.03, 0.05])
     s.marker("m_waist_2", "waist", pos=[-0.05, 0.04, 0.03])
-    count = 2
-    for l in marked:
-        if l == "waist" or count >= 24:
-            continue
-        s.marker("m_" + l, l, fixed=l in leaves)
-        count += 1
-    for l in ("head", "torso", "l_shank", "r_shank"):  # a few more where a marker helps most
-        if count >= 24:
-            break
-        s.marker("m_" + l + ("_2" if l in marked else ""), l)
-        count += 1
-    assert count == 24, (count, marked)
+    s.marker("m_torso", "torso")
+    s.marker("m_head", "head")
+    s.marker("m_head_2", "head")
+    s.marker("m_jaw", "jaw_link", fixed=True)
+    for side in ("l", "r"):
+        for link, fixed in (("_upper_arm", False), ("_forearm", False), ("_hand", False),
+                            ("_fingers_link", True), ("_thumb_link", True)):
+            s.marker("m_" + side + link, side + link, fixed=fixed)
+    for side in ("l", "r"):
+        for link, fixed in (("_hip_link", False), ("_shank", False), ("_foot", False), ("_toe_link", True)):
+            s.marker("m_" + side + link, side + link, fixed=fixed)
+    assert len(s.markers) == 24, len(s.markers)
     return r, s
 
 

@@ -86,17 +86,16 @@ PassStats costPass(const MeasurementModel& model, const SensorParameters& theta,
   parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
     FrameWorkspace& w = (*ws)[tid];
     PassStats& st = chunk_stats[chunk];
-    Eigen::VectorXd qt(dof), g(dof), col(dof);
-    Eigen::MatrixXd H(dof, dof);
+    Eigen::VectorXd qt(dof), g(dof);
+    Eigen::MatrixXd H(dof, dof), Hinv(dof, dof);
     const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
     for (int t = chunk * kFramesPerChunk; t < end; ++t) {
       qt = q.row(t).transpose();
       st.cost += evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), qt, eo, &w);
-      Eigen::LLT<Eigen::MatrixXd> llt;
       if (leverage) {
         accumulateNormalEquations(w, &H, &g);
         H.diagonal().array() += 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
-        llt.compute(H);
+        Hinv = H.llt().solve(Eigen::MatrixXd::Identity(dof, dof));
       }
       for (int i = 0; i < w.count; ++i) {
         const ReadingJacobian& rj = w.readings[i];
@@ -115,12 +114,14 @@ PassStats costPass(const MeasurementModel& model, const SensorParameters& theta,
         st.wsse[g_idx] += rj.weight * rj.s * ratio * ratio;
         st.wdims[g_idx] += rj.weight * rj.rows;
         if (leverage) {
+          // This reading's share of the dof the frame's q_t took:
+          // tr(J H⁻¹ Jᵀ) over its (few) columns.
           const std::vector<int>& cols = *rj.q_cols;
-          for (int r = 0; r < rj.rows; ++r) {
-            col.setZero();
-            for (size_t c = 0; c < cols.size(); ++c) col[cols[c]] = rj.Jq(r, c);
-            st.leverage[g_idx] += llt.matrixL().solve(col).squaredNorm();
-          }
+          const int k = static_cast<int>(cols.size());
+          for (int r = 0; r < rj.rows; ++r)
+            for (int a = 0; a < k; ++a)
+              for (int b = 0; b < k; ++b)
+                st.leverage[g_idx] += rj.Jq(r, a) * Hinv(cols[a], cols[b]) * rj.Jq(r, b);
         }
       }
     }
@@ -387,21 +388,21 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
     to.threads = threads;
     double cost = st.cost;
     double lambda = 1e-4;
+    // The alternation until it stalls; then coupled Gauss-Newton steps
+    // (every q_t eliminated per frame, schur.hpp), which converge fast where
+    // q and θ are strongly coupled and the alternation would crawl.
+    bool coupled = false;
     for (int it = 1; it <= options.max_iterations; ++it) {
-      qPhase(model, theta, noise, loss, obs, qo, &ws, &state);
-      thetaPhase(model, noise, loss, obs, state, to, &ws, &theta);
-      // Where q and θ are strongly coupled the alternation slows to a crawl;
-      // a coupled Gauss-Newton step (q_t eliminated per frame, schur.hpp)
-      // then finishes the job at the same cost per frame.
-      if (options.coupled_steps) {
-        EvalOptions eo;
-        const double c_alt = totalCost(model, theta, noise, loss, obs, eo, threads, &ws, &state);
-        if (cost - c_alt < 1e-2 * cost)
-          coupledStep(model, noise, loss, obs, threads, &ws, &lambda, &theta, &state);
+      if (coupled) {
+        coupledStep(model, noise, loss, obs, threads, &ws, &lambda, &theta, &state);
+      } else {
+        qPhase(model, theta, noise, loss, obs, qo, &ws, &state);
+        thetaPhase(model, noise, loss, obs, state, to, &ws, &theta);
       }
       st = costPass(model, theta, noise, seed_noise, loss, obs, state.q,
                     options.adapt_variance, threads, &ws);
       const double rel = (cost - st.cost) / std::max(cost, 1e-300);
+      if (options.coupled_steps && rel < 1e-2) coupled = true;
       iterations = it;
       double change = 0;
       if (options.progress) options.progress(makeReport(it, st, start, "stac"));
