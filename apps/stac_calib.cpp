@@ -14,6 +14,7 @@
 #include "stac/measurement.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/sensors_file.hpp"
+#include "stac/simulate.hpp"
 
 namespace {
 
@@ -21,7 +22,7 @@ using namespace stac;
 using cli::ParameterChange;
 using cli::largestChanges;
 using cli::checkOutputs;
-using cli::jointAnglesCsv;
+using cli::writeOutput;
 
 const std::vector<cli::Option> kOptions = {
     {"urdf", "FILE", "robot description (URDF)", true},
@@ -166,9 +167,13 @@ int run(const cli::Args& args) {
 
   // All outputs are complete in memory before the first is written.
   const std::string yaml = sensorsToYaml(result.sensors, result.theta, &result);
-  const std::string q_csv = q_path.empty() ? "" : jointAnglesCsv(robot, obs, q);
-  writeFileAtomically(output, yaml);
-  if (!q_path.empty()) writeFileAtomically(q_path, q_csv);
+  Log q_log;
+  if (!q_path.empty()) {
+    q_log = jointAnglesLog(robot, q, obs.time);
+    if (!obs.time_name.empty()) q_log.time_name = obs.time_name;
+  }
+  writeOutput(output, yaml);
+  if (!q_path.empty()) cli::writeLogOutput(q_path, q_log);
   const MeasurementModel model(robot, sf.sensors);
   printSummary(robot, sf.sensors, sf.theta, result, model, output);
   return 0;

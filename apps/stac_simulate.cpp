@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
+#include "common/outputs.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
 #include "stac/log.hpp"
@@ -64,47 +65,6 @@ std::uint64_t parseSeed(const Args& args) {
   return static_cast<std::uint64_t>(v);
 }
 
-// Absolute, normalised form of a path that may not exist yet.
-fs::path normalised(const std::string& p) {
-  std::error_code ec;
-  fs::path n = fs::weakly_canonical(fs::absolute(p, ec), ec);
-  return ec ? fs::path(p).lexically_normal() : n;
-}
-
-bool samePath(const std::string& a, const std::string& b) {
-  return stac::sameFile(a, b) || normalised(a) == normalised(b);
-}
-
-// An output must not be an input, nor the other output, and its folder must
-// exist.
-void checkOutput(const Args& args, const std::string& option) {
-  const std::string out = args.get(option);
-  if (out.empty()) throw UsageError("--" + option + " needs a file name");
-  for (const char* input : {"urdf", "sensors"})
-    if (samePath(out, args.get(input)))
-      throw UsageError("--" + option + " '" + out + "' is the --" + input +
-                       " input; refusing to overwrite it");
-  std::error_code ec;
-  if (fs::is_directory(out, ec))
-    throw UsageError("--" + option + " '" + out + "' is a directory");
-  const fs::path dir = normalised(out).parent_path();
-  if (!dir.empty() && !fs::is_directory(dir, ec))
-    throw UsageError("--" + option + " '" + out + "': folder '" + dir.string() +
-                     "' does not exist");
-}
-
-// writeLog goes through a temporary file renamed into place: a failure
-// leaves no partial file. It is the user's folder that failed, not us: exit 2.
-void writeOutput(const std::string& path, const stac::Log& log) {
-  try {
-    stac::writeLog(path, log);
-  } catch (const stac::InputError&) {
-    throw;
-  } catch (const std::runtime_error& e) {
-    throw stac::InputError(path, std::string("cannot write: ") + e.what());
-  }
-}
-
 int run(const Args& args) {
   stac::SimulationOptions options;
   options.frames = args.getInt("frames", 0);
@@ -127,12 +87,9 @@ int run(const Args& args) {
 
   const std::string log_path = args.get("log");
   const std::string q_path = args.get("joint-angles");
-  checkOutput(args, "log");
-  if (args.has("joint-angles")) {
-    checkOutput(args, "joint-angles");
-    if (samePath(q_path, log_path))
-      throw UsageError("--joint-angles and --log name the same file '" + log_path + "'");
-  }
+  std::vector<std::pair<std::string, std::string>> outputs = {{"--log", log_path}};
+  if (args.has("joint-angles")) outputs.emplace_back("--joint-angles", q_path);
+  stac::cli::checkOutputs({args.get("urdf"), args.get("sensors")}, outputs);
 
   const stac::RobotModel robot = stac::RobotModel::fromFile(args.get("urdf"));
   const stac::SensorsFile truth = stac::loadSensorsFile(args.get("sensors"), robot);
@@ -146,8 +103,8 @@ int run(const Args& args) {
     q_log = stac::jointAnglesLog(robot, sim.q, sim.data.log.time);
     q_log.path = q_path;
   }
-  writeOutput(log_path, sim.data.log);
-  if (args.has("joint-angles")) writeOutput(q_path, q_log);
+  stac::cli::writeLogOutput(log_path, sim.data.log);
+  if (args.has("joint-angles")) stac::cli::writeLogOutput(q_path, q_log);
 
   const stac::SensorSet& s = truth.sensors;
   std::cerr << "stac_simulate: " << options.frames << " frames at " << options.rate_hz

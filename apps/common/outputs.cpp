@@ -2,11 +2,28 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "common/cli.hpp"
+#include "stac/error.hpp"
 #include "stac/file_io.hpp"
 
 namespace stac::cli {
+
+namespace {
+namespace fs = std::filesystem;
+
+// Absolute, normalised form of a path that may not exist yet.
+fs::path normalised(const std::string& p) {
+  std::error_code ec;
+  fs::path n = fs::weakly_canonical(fs::absolute(p, ec), ec);
+  return ec ? fs::path(p).lexically_normal() : n;
+}
+
+bool samePath(const std::string& a, const std::string& b) {
+  return sameFile(a, b) || normalised(a) == normalised(b);
+}
+}  // namespace
 
 void checkOutputs(const std::vector<std::string>& inputs,
                   const std::vector<std::pair<std::string, std::string>>& outputs) {
@@ -14,32 +31,26 @@ void checkOutputs(const std::vector<std::string>& inputs,
     const auto& [flag, path] = outputs[i];
     if (path.empty()) throw UsageError(flag + " needs a file name");
     for (const std::string& in : inputs)
-      if (path == in || sameFile(path, in))
-        throw UsageError(flag + " " + path + " is one of the inputs: refusing to overwrite it");
+      if (!in.empty() && samePath(path, in))
+        throw UsageError(flag + " '" + path + "' is one of the inputs: refusing to overwrite it");
     for (size_t j = 0; j < i; ++j)
-      if (path == outputs[j].second || sameFile(path, outputs[j].second))
-        throw UsageError(flag + " and " + outputs[j].first + " name the same file " + path);
+      if (samePath(path, outputs[j].second))
+        throw UsageError(flag + " and " + outputs[j].first + " name the same file '" + path + "'");
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw UsageError(flag + " '" + path + "' is a directory");
+    const fs::path dir = normalised(path).parent_path();
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+      throw UsageError(flag + " '" + path + "': folder '" + dir.string() + "' does not exist");
   }
 }
 
-std::string jointAnglesCsv(const RobotModel& robot, const Observations& obs, const RowMatrix& q) {
-  std::string out;
-  const bool has_time = !obs.time.empty();
-  if (has_time) out += obs.time_name.empty() ? "time" : obs.time_name;
-  for (int j = 0; j < robot.dof(); ++j) {
-    if (has_time || j > 0) out += ",";
-    out += robot.qName(j);
+void writeOutput(const std::string& path, const std::string& content) {
+  try {
+    writeFileAtomically(path, content);
+  } catch (const std::runtime_error& e) {
+    // The user's folder failed, not us: bad input (exit 2), nothing partial left.
+    throw InputError(path, std::string("cannot write: ") + e.what());
   }
-  out += "\n";
-  for (int t = 0; t < q.rows(); ++t) {
-    if (has_time) out += formatNumber(obs.time[t]);
-    for (int j = 0; j < robot.dof(); ++j) {
-      if (has_time || j > 0) out += ",";
-      out += formatNumber(q(t, j));
-    }
-    out += "\n";
-  }
-  return out;
 }
 
 std::vector<ParameterChange> largestChanges(const MeasurementModel& model,
@@ -86,6 +97,16 @@ std::vector<ParameterChange> largestChanges(const MeasurementModel& model,
                    [](const ParameterChange& a, const ParameterChange& b) { return a.score > b.score; });
   if (static_cast<int>(all.size()) > n) all.resize(n);
   return all;
+}
+
+void writeLogOutput(const std::string& path, const Log& log) {
+  try {
+    writeLog(path, log);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, std::string("cannot write: ") + e.what());
+  }
 }
 
 }  // namespace stac::cli

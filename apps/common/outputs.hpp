@@ -12,12 +12,15 @@
 
 namespace stac::cli {
 
-// Throws UsageError if an output would overwrite an input or another output.
+// Throws UsageError if an output (flag, path) would overwrite an input or
+// another output (compared as files and as normalised paths), is a
+// directory, or lies in a folder that does not exist.
 void checkOutputs(const std::vector<std::string>& inputs,
                   const std::vector<std::pair<std::string, std::string>>& outputs);
 
-// `time` (when the log has it), then one column per joint in q order.
-std::string jointAnglesCsv(const RobotModel& robot, const Observations& obs, const RowMatrix& q);
+// writeFileAtomically, with a failure reported as bad input (exit 2).
+void writeOutput(const std::string& path, const std::string& content);
+void writeLogOutput(const std::string& path, const Log& log);
 
 struct ParameterChange {
   std::string name;
