@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <string_view>
 
 #include "stac/error.hpp"
@@ -25,16 +27,23 @@ std::string_view trim(std::string_view s) {
 
 bool isTimeName(const std::string& s) { return s == "time" || s == "t" || s == "timestamp"; }
 
+// "nan", "NaN", "-nan" (what printf writes for a negative NaN), any case.
+bool isMissing(std::string_view cell) {
+  if (cell.empty()) return true;
+  if (cell.front() == '-' || cell.front() == '+') cell.remove_prefix(1);
+  return cell.size() == 3 && (cell[0] | 0x20) == 'n' && (cell[1] | 0x20) == 'a' &&
+         (cell[2] | 0x20) == 'n';
+}
+
 // Parses one cell; NaN for a missing reading. Throws for anything else that
 // is not a finite number.
 double parseCell(std::string_view cell, const Log& log, int line, int column,
                  const std::string& name) {
   cell = trim(cell);
-  if (cell.empty() || cell == "nan" || cell == "NaN" || cell == "NAN")
-    return std::numeric_limits<double>::quiet_NaN();
+  if (isMissing(cell)) return std::numeric_limits<double>::quiet_NaN();
   double v = 0;
   const char* begin = cell.data();
-  if (*begin == '+') ++begin;
+  if (*begin == '+' && cell.size() > 1 && cell[1] != '-') ++begin;
   const auto res = std::from_chars(begin, cell.data() + cell.size(), v);
   if (res.ec == std::errc() && res.ptr == cell.data() + cell.size()) {
     if (std::isfinite(v)) return v;
@@ -42,9 +51,15 @@ double parseCell(std::string_view cell, const Log& log, int line, int column,
                      "column '" + name + "': '" + std::string(cell) +
                          "' is not finite (a missing reading is an empty cell or nan)");
   }
-  if (res.ec == std::errc::result_out_of_range)
+  if (res.ec == std::errc::result_out_of_range && res.ptr == cell.data() + cell.size()) {
+    // Underflow reads as the nearest double (0 or a subnormal), as strtod
+    // does; overflow is an error.
+    const std::string copy(cell);
+    const double u = std::strtod(copy.c_str(), nullptr);
+    if (std::isfinite(u)) return u;
     throw InputError(log.path, line, column,
-                     "column '" + name + "': '" + std::string(cell) + "' is out of range");
+                     "column '" + name + "': '" + copy + "' is out of range");
+  }
   throw InputError(log.path, line, column,
                    "column '" + name + "': '" + std::string(cell) + "' is not a number");
 }
@@ -57,6 +72,7 @@ Log parseLog(const std::string& text, const std::string& source_name) {
   std::vector<std::string> header;
   int time_col = -1;
   size_t pos = 0;
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) pos = 3;  // a UTF-8 byte order mark
   int line = 0;
   std::vector<double> values;  // row-major, grown row by row
   std::vector<std::string_view> cells;
@@ -102,10 +118,15 @@ Log parseLog(const std::string& text, const std::string& source_name) {
       log.header_line = line;
       continue;
     }
-    if (cells.size() != header.size())
-      throw InputError(log.path, line, static_cast<int>(std::min(cells.size(), header.size()) + 1),
-                       "row has " + std::to_string(cells.size()) + " cells, the header has " +
-                           std::to_string(header.size()));
+    if (cells.size() != header.size()) {
+      const size_t col = std::min(cells.size(), header.size());
+      throw InputError(log.path, line, static_cast<int>(col + 1),
+                       "the row has " + std::to_string(cells.size()) + " cells, the header has " +
+                           std::to_string(header.size()) +
+                           (cells.size() < header.size()
+                                ? " (no cell for column '" + header[col] + "')"
+                                : " (a cell beyond the last column '" + header.back() + "')"));
+    }
     for (size_t c = 0; c < cells.size(); ++c) {
       const double v = parseCell(cells[c], log, line, static_cast<int>(c + 1), header[c]);
       if (static_cast<int>(c) == time_col) {
@@ -139,9 +160,17 @@ void writeLog(const std::string& path, const Log& log) {
     first = false;
   }
   out += '\n';
+  if (log.hasTime() && log.time.size() != static_cast<size_t>(log.values.rows()))
+    throw std::invalid_argument("writeLog: " + std::to_string(log.time.size()) + " times for " +
+                                std::to_string(log.values.rows()) + " rows");
+  if (log.columns.size() != static_cast<size_t>(log.values.cols()))
+    throw std::invalid_argument("writeLog: " + std::to_string(log.columns.size()) +
+                                " column names for " + std::to_string(log.values.cols()) +
+                                " columns");
   char buf[64];
   auto number = [&](double v) {
     if (std::isnan(v)) return;
+    if (std::isinf(v)) throw std::invalid_argument("writeLog: an infinite value cannot be read back");
     const auto res = std::to_chars(buf, buf + sizeof buf, v);
     out.append(buf, res.ptr);
   };
@@ -207,25 +236,27 @@ Observations bindLog(const Log& log, const SensorSet& sensors, const std::string
   for (const std::string& c : log.columns)
     if (!used.count(c)) extra.push_back(c);
   auto list = [](const std::vector<std::string>& v) {
+    constexpr size_t kShown = 30;
     std::string s;
-    for (size_t i = 0; i < v.size() && i < 12; ++i) s += (i ? ", " : "") + v[i];
-    if (v.size() > 12) s += ", ... (" + std::to_string(v.size()) + " in all)";
+    for (size_t i = 0; i < v.size() && i < kShown; ++i) s += (i ? ", " : "") + v[i];
+    if (v.size() > kShown) s += ", ... (" + std::to_string(v.size()) + " in all)";
     return s;
   };
+  std::string problem;
   if (!missing.empty())
-    throw InputError(log.path, log.header_line, 0,
-                     "the log has no column for " + list(missing) + " (sensors defined in " +
-                         sensors_source + ")");
+    problem = "the log has no column for " + list(missing) + " (sensors defined in " +
+              sensors_source + ")";
   if (!extra.empty())
-    throw InputError(log.path, log.header_line, 0,
-                     "column(s) " + list(extra) + " belong to no sensor in " + sensors_source);
+    problem += (problem.empty() ? "" : "; ") + std::string("column(s) ") + list(extra) +
+               " belong to no sensor in " + sensors_source;
+  if (!problem.empty()) throw InputError(log.path, log.header_line, 0, problem);
   return obs;
 }
 
 Observations sliceFrames(const Observations& obs, int begin, int end) {
   Observations out;
-  begin = std::max(0, begin);
-  end = std::min(obs.num_frames, end);
+  end = std::clamp(end, 0, obs.num_frames);
+  begin = std::clamp(begin, 0, end);
   out.num_frames = std::max(0, end - begin);
   out.time_name = obs.time_name;
   if (!obs.time.empty()) out.time.assign(obs.time.begin() + begin, obs.time.begin() + end);
