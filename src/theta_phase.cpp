@@ -234,6 +234,24 @@ void markerGroupGaussNewton(const MeasurementModel& model, const NoiseModel& noi
   }
 }
 
+
+// Eq. 18-20: the (robustly weighted) line p ≈ gain * x + bias of one scalar
+// sensor, x its joint angle or tendon length per frame. Returns false where
+// x never varied (the gain kept).
+bool fitScalarSensor(const std::vector<double>& x, const double* p, Eigen::Index stride,
+                     double sigma, const RobustLoss& loss, GainBias* gb) {
+  const int T = static_cast<int>(x.size());
+  std::vector<double> pv(T), w(T);
+  for (int t = 0; t < T; ++t) {
+    pv[t] = p[t * stride];
+    const double r = (gb->gain * x[t] + gb->bias - pv[t]) / sigma;
+    w[t] = std::isnan(pv[t]) ? 0.0 : robustWeight(loss, r * r);
+  }
+  const LineFit fit = fitGainBias(x.data(), pv.data(), w.data(), T, *gb);
+  *gb = fit.value;
+  return fit.gain_identifiable;
+}
+
 }  // namespace
 
 ThetaPhaseReport thetaPhase(const MeasurementModel& model, const NoiseModel& noise,
@@ -250,22 +268,15 @@ ThetaPhaseReport thetaPhase(const MeasurementModel& model, const NoiseModel& noi
 
   // Joint sensors: angles come straight from q.
   if (options.update[1]) {
-    std::vector<double> x(T), w(T);
+    std::vector<double> x(T);
     for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
       const JointSensorConfig& sc = sensors.joint_sensors[s];
       if (sc.fixed) continue;
       const MovableJoint& mj = robot.movableJoints()[sc.joint];
-      const GainBias& gb = theta->joint_sensor[s];
-      std::vector<double> p(T);
-      for (int t = 0; t < T; ++t) {
-        x[t] = mj.multiplier * state.q(t, mj.q_index) + mj.offset;
-        p[t] = obs.joint(t, s);
-        const double r = (gb.gain * x[t] + gb.bias - p[t]) / noise.joint[s];
-        w[t] = std::isnan(p[t]) ? 0.0 : robustWeight(loss, r * r);
-      }
-      const LineFit fit = fitGainBias(x.data(), p.data(), w.data(), T, gb);
-      theta->joint_sensor[s] = fit.value;
-      if (!fit.gain_identifiable) report.degenerate.push_back("joint_sensors." + sc.name + ".gain");
+      for (int t = 0; t < T; ++t) x[t] = mj.multiplier * state.q(t, mj.q_index) + mj.offset;
+      if (!fitScalarSensor(x, obs.joint.data() + s, obs.joint.cols(), noise.joint[s], loss,
+                           &theta->joint_sensor[s]))
+        report.degenerate.push_back("joint_sensors." + sc.name + ".gain");
     }
   }
 
@@ -284,20 +295,14 @@ ThetaPhaseReport thetaPhase(const MeasurementModel& model, const NoiseModel& noi
           L(t, s) = tendon_sensor::length(robot, sensors.tendon_sensors[s], kin);
       }
     });
-    std::vector<double> x(T), p(T), w(T);
+    std::vector<double> x(T);
     for (int s = 0; s < S; ++s) {
       const TendonSensorConfig& sc = sensors.tendon_sensors[s];
       if (sc.fixed) continue;
-      const GainBias& gb = theta->tendon_sensor[s];
-      for (int t = 0; t < T; ++t) {
-        x[t] = L(t, s);
-        p[t] = obs.tendon(t, s);
-        const double r = (gb.gain * x[t] + gb.bias - p[t]) / noise.tendon[s];
-        w[t] = std::isnan(p[t]) ? 0.0 : robustWeight(loss, r * r);
-      }
-      const LineFit fit = fitGainBias(x.data(), p.data(), w.data(), T, gb);
-      theta->tendon_sensor[s] = fit.value;
-      if (!fit.gain_identifiable) report.degenerate.push_back("tendon_sensors." + sc.name + ".gain");
+      for (int t = 0; t < T; ++t) x[t] = L(t, s);
+      if (!fitScalarSensor(x, obs.tendon.data() + s, obs.tendon.cols(), noise.tendon[s], loss,
+                           &theta->tendon_sensor[s]))
+        report.degenerate.push_back("tendon_sensors." + sc.name + ".gain");
     }
   }
 

@@ -2,21 +2,11 @@
 
 #include <cmath>
 
+#include "support/arm_files.hpp"
+
 namespace stac::test {
 
 namespace {
-const char* kArm = R"(<robot name="arm4">
-  <link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/>
-  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
-    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
-  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
-    <origin xyz="0 0 0.05"/><axis xyz="0 1 0"/><limit lower="-1.2" upper="1.2" effort="1" velocity="1"/></joint>
-  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>
-    <origin xyz="0.25 0 0"/><axis xyz="1 0 0"/><limit lower="-1.2" upper="1.2" effort="1" velocity="1"/></joint>
-  <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/>
-    <origin xyz="0.2 0 0"/><axis xyz="0 0 1"/><limit lower="-1.2" upper="1.2" effort="1" velocity="1"/></joint>
-</robot>)";
-
 double normal(std::mt19937& rng) {
   // Box-Muller: portable across standard libraries.
   const double u1 = (rng() + 1.0) / 4294967297.0, u2 = (rng() + 1.0) / 4294967297.0;
@@ -55,7 +45,7 @@ void simulateReadings(const MeasurementModel& model, const SensorParameters& tru
 
 ArmProblem makeArmProblem(int frames, unsigned seed, double noise_scale, double dropout,
                           int noise_seed) {
-  ArmProblem p{RobotModel::fromString(kArm, "arm4"), {}, {}, {}, {}, {}};
+  ArmProblem p{RobotModel::fromString(kArmUrdf, "arm4"), {}, {}, {}, {}, {}};
   SensorSet& s = p.sensors;
   const RobotModel& r = p.robot;
   std::mt19937 rng(seed);
