@@ -86,6 +86,7 @@ Eigen::VectorXd MeasurementModel::thetaScale(const SensorParameters& theta) cons
   // Rotations in radians and positions in metres are compared through the
   // robot's size; a gain through the typical magnitude of its own value.
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(theta_size_);
+  for (int i = 0; i < 3; ++i) scale[kRotationOffset + i] = 0.1;  // ~6 degrees
   for (int i = 0; i < 3; ++i) scale[kTranslationOffset + i] = 0.1;
   for (size_t m = 0; m < sensors_->markers.size(); ++m)
     scale.segment<3>(markerOffset(static_cast<int>(m))).setConstant(0.01);
