@@ -64,6 +64,34 @@ double parseCell(std::string_view cell, const Log& log, int line, int column,
                    "column '" + name + "': '" + std::string(cell) + "' is not a number");
 }
 
+// The fast path for a row of plain numbers and empty cells: parses it into
+// out[0..n) and returns true, or returns false (with out partly written) at
+// anything else (nan, '+', text, inf, a wrong cell count), for the careful
+// path to handle or report.
+bool parsePlainRow(std::string_view row, size_t n, double* out) {
+  const char* p = row.data();
+  const char* const end = row.data() + row.size();
+  auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  for (size_t c = 0; c < n; ++c) {
+    while (p < end && blank(*p)) ++p;
+    if (p == end || *p == ',') {
+      out[c] = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      const auto res = std::from_chars(p, end, out[c]);
+      if (res.ec != std::errc() || !std::isfinite(out[c])) return false;
+      p = res.ptr;
+      while (p < end && blank(*p)) ++p;
+    }
+    if (c + 1 < n) {
+      if (p == end || *p != ',') return false;
+      ++p;
+    } else if (p != end) {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 Log parseLog(const std::string& text, const std::string& source_name) {
@@ -76,6 +104,7 @@ Log parseLog(const std::string& text, const std::string& source_name) {
   int line = 0;
   std::vector<double> values;  // row-major, grown row by row
   std::vector<std::string_view> cells;
+  std::vector<double> row_buf;
   while (pos < text.size()) {
     size_t end = text.find('\n', pos);
     if (end == std::string::npos) end = text.size();
@@ -84,6 +113,23 @@ Log parseLog(const std::string& text, const std::string& source_name) {
     ++line;
     const std::string_view t = trim(row);
     if (t.empty() || t.front() == '#') continue;
+    if (!header.empty()) {
+      const size_t n = header.size();
+      row_buf.resize(n);
+      if (parsePlainRow(row, n, row_buf.data())) {
+        if (time_col >= 0 && std::isnan(row_buf[time_col]))
+          throw InputError(log.path, line, time_col + 1,
+                           "column '" + header[time_col] + "': the time is missing");
+        for (size_t c = 0; c < n; ++c) {
+          if (static_cast<int>(c) == time_col)
+            log.time.push_back(row_buf[c]);
+          else
+            values.push_back(row_buf[c]);
+        }
+        log.line_of_frame.push_back(line);
+        continue;
+      }
+    }
     cells.clear();
     size_t start = 0;
     while (true) {
@@ -116,6 +162,13 @@ Log parseLog(const std::string& text, const std::string& source_name) {
       for (size_t c = 0; c < header.size(); ++c)
         if (static_cast<int>(c) != time_col) log.columns.push_back(header[c]);
       log.header_line = line;
+      // At most one frame per remaining line: reserve once.
+      const size_t lines_left =
+          static_cast<size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(std::min(pos, text.size())),
+                                         text.end(), '\n')) + 1;
+      values.reserve(lines_left * log.columns.size());
+      if (time_col >= 0) log.time.reserve(lines_left);
+      log.line_of_frame.reserve(lines_left);
       continue;
     }
     if (cells.size() != header.size()) {
