@@ -349,7 +349,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
     }
     QPhaseOptions qo;
     qo.method = QPhaseMethod::kLmBatch;
-    qo.max_steps = 10;
+    qo.max_steps = 6;
     qo.threads = threads;
     qPhase(model, theta, noise, loss, obs, qo, &ws, &state);
     st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, options.adapt_variance,

@@ -10,7 +10,7 @@
 namespace stac {
 
 // Frames used for initialising: at most this many, spread over the log.
-constexpr int kInitFrames = 1500;
+constexpr int kInitFrames = 1000;
 
 // `count` frame indices spread evenly over [0, frames).
 std::vector<int> spreadFrames(int frames, int count);
