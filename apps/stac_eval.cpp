@@ -1,0 +1,114 @@
+// stac_eval: cross-sensor prediction on held-out data (SPEC §4; paper
+// Tables I, II).
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/outputs.hpp"
+#include "stac/error.hpp"
+#include "stac/evaluate.hpp"
+#include "stac/log.hpp"
+#include "stac/robot_model.hpp"
+#include "stac/sensors_file.hpp"
+
+namespace {
+
+using namespace stac;
+
+const std::vector<cli::Option> kOptions = {
+    {"urdf", "FILE", "robot description (URDF)", true},
+    {"sensors", "FILE", "calibration to evaluate (sensors file, YAML)", true},
+    {"log", "FILE", "held-out readings (CSV, SPEC §2)", true},
+    {"use", "GROUPS", "groups that estimate q: comma-separated marker,joint,tendon", true},
+    {"predict", "GROUPS", "groups to predict (default: every group in the sensors file)"},
+    {"truth", "FILE", "true sensors file: also print each parameter's error"},
+    {"json", "FILE", "also write the numbers as JSON"},
+    {"mocap-units", "m|mm", "unit of the marker columns (default m)"},
+    {"threads", "N", "worker threads; 0 = all cores (default)"},
+};
+
+const char* kSynopsis =
+    "stac_eval --urdf robot.urdf --sensors calibration.yaml --log test.csv\n"
+    "          --use joint,tendon [--predict marker,joint,tendon]\n"
+    "          [--truth truth.yaml] [--json result.json]\n\n"
+    "Estimates the joint angles of every frame from the --use groups only,\n"
+    "predicts every group from them and prints the mean absolute error per group\n"
+    "(markers: mean Euclidean distance in metres; joint and tendon sensors: raw\n"
+    "units). Groups that also estimated q are shown in parentheses.";
+
+// "joint,tendon" -> flags per group; UsageError on an unknown or repeated name.
+void parseGroups(const std::string& flag, const std::string& text, bool out[kNumSensorGroups]) {
+  for (int g = 0; g < kNumSensorGroups; ++g) out[g] = false;
+  size_t begin = 0;
+  while (true) {
+    const size_t end = text.find(',', begin);
+    const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
+    int found = -1;
+    for (int g = 0; g < kNumSensorGroups; ++g)
+      if (item == groupName(static_cast<SensorGroup>(g))) found = g;
+    if (found < 0)
+      throw cli::UsageError("--" + flag + ": unknown sensor group '" + item +
+                            "' (expected a comma-separated list of marker, joint, tendon)");
+    if (out[found]) throw cli::UsageError("--" + flag + " names '" + item + "' twice");
+    out[found] = true;
+    if (end == std::string::npos) break;
+    begin = end + 1;
+  }
+}
+
+int groupCount(const SensorSet& s, int g) {
+  return g == 0 ? static_cast<int>(s.markers.size())
+         : g == 1 ? static_cast<int>(s.joint_sensors.size())
+                  : static_cast<int>(s.tendon_sensors.size());
+}
+
+int run(const cli::Args& args) {
+  const std::string urdf = args.get("urdf"), sensors_path = args.get("sensors");
+  const std::string log_path = args.get("log"), truth_path = args.get("truth");
+  const std::string json_path = args.get("json");
+
+  EvaluationOptions options;
+  parseGroups("use", args.get("use"), options.use);
+  const bool explicit_predict = args.has("predict");
+  if (explicit_predict) parseGroups("predict", args.get("predict"), options.predict);
+  options.threads = args.getInt("threads", 0);
+  if (options.threads < 0) throw cli::UsageError("--threads must be >= 0 (0 = all cores)");
+  const double mocap_scale = args.getChoice("mocap-units", {"m", "mm"}, "m") == "mm" ? 1e-3 : 1.0;
+
+  std::vector<std::string> inputs = {urdf, sensors_path, log_path};
+  if (!truth_path.empty()) inputs.push_back(truth_path);
+  if (args.has("json")) cli::checkOutputs(inputs, {{"--json", json_path}});
+
+  const RobotModel robot = RobotModel::fromFile(urdf);
+  const SensorsFile sf = loadSensorsFile(sensors_path, robot);
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    const std::string name = groupName(static_cast<SensorGroup>(g));
+    if (options.use[g] && groupCount(sf.sensors, g) == 0)
+      throw cli::UsageError("--use " + name + ": the sensors file '" + sensors_path + "' has no " +
+                            name + " sensors");
+    if (explicit_predict && options.predict[g] && groupCount(sf.sensors, g) == 0)
+      throw cli::UsageError("--predict " + name + ": the sensors file '" + sensors_path +
+                            "' has no " + name + " sensors");
+  }
+  std::vector<ParameterError> truth;
+  if (!truth_path.empty()) {
+    const SensorsFile tf = loadSensorsFile(truth_path, robot);
+    truth = compareToTruth(sf.sensors, sf.theta, tf.sensors, tf.theta, truth_path);
+  }
+  const Log log = readLog(log_path);
+  const Observations obs = bindLog(log, sf.sensors, sensors_path, mocap_scale);
+  if (obs.num_frames == 0) throw InputError(log_path, "the log has no data rows");
+
+  const EvaluationResult result = evaluatePrediction(robot, sf.sensors, sf.theta, obs, options);
+  const std::vector<ParameterError>* truth_ptr = truth_path.empty() ? nullptr : &truth;
+  if (args.has("json")) cli::writeOutput(json_path, evaluationJson(result, truth_ptr));
+  std::cout << evaluationReport(result, truth_ptr);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return stac::cli::runApp(argc, argv, "stac_eval", kSynopsis, kOptions, run);
+}

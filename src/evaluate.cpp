@@ -1,0 +1,361 @@
+#include "stac/evaluate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "stac/calibrate.hpp"
+#include "stac/error.hpp"
+#include "stac/file_io.hpp"
+#include "stac/kinematics.hpp"
+#include "stac/measurement.hpp"
+#include "stac/parallel.hpp"
+#include "stac/q_phase.hpp"
+
+namespace stac {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+int groupSize(const SensorSet& s, int g) {
+  switch (static_cast<SensorGroup>(g)) {
+    case SensorGroup::kMarker: return static_cast<int>(s.markers.size());
+    case SensorGroup::kJoint: return static_cast<int>(s.joint_sensors.size());
+    case SensorGroup::kTendon: return static_cast<int>(s.tendon_sensors.size());
+  }
+  return 0;
+}
+
+const std::string& sensorName(const SensorSet& s, int g, int i) {
+  switch (static_cast<SensorGroup>(g)) {
+    case SensorGroup::kMarker: return s.markers[i].name;
+    case SensorGroup::kJoint: return s.joint_sensors[i].name;
+    case SensorGroup::kTendon: break;
+  }
+  return s.tendon_sensors[i].name;
+}
+
+// Estimates q from the used groups: a tracking pass from the neutral pose
+// (each frame warm-started from its predecessor), then lm-batch refinements.
+RowMatrix estimateQ(const MeasurementModel& model, const SensorParameters& theta,
+                    const Observations& obs, const EvaluationOptions& options) {
+  const RobotModel& robot = model.robot();
+  const NoiseModel noise = NoiseModel::fromSeeds(model.sensors());
+  const RobustLoss loss;
+  QPhaseOptions qo;
+  qo.method = QPhaseMethod::kLmBatch;
+  qo.max_steps = options.max_steps;
+  qo.threads = options.threads;
+  for (int g = 0; g < kNumSensorGroups; ++g) qo.eval.group_weight[g] = options.use[g] ? 1.0 : 0.0;
+  const int threads = resolveThreads(options.threads);
+  std::vector<FrameWorkspace> ws;
+  ws.reserve(threads);
+  for (int i = 0; i < threads; ++i) ws.emplace_back(model);
+  QState state;
+  state.q.resize(obs.num_frames, robot.dof());
+  trackingPass(model, theta, noise, loss, obs, qo, neutralPose(robot),
+               options.tracking_segments, &ws, &state);
+  for (int i = 0; i < options.refinements; ++i)
+    qPhase(model, theta, noise, loss, obs, qo, &ws, &state);
+  return state.q;
+}
+
+}  // namespace
+
+bool EvaluationOptions::isValid(std::string* error) const {
+  auto fail = [&](const std::string& e) {
+    if (error) *error = e;
+    return false;
+  };
+  if (!use[0] && !use[1] && !use[2]) return fail("no sensor group is used to estimate q");
+  if (threads < 0) return fail("threads must be >= 0 (0 = all cores)");
+  if (tracking_segments < 1) return fail("tracking_segments must be at least 1");
+  if (refinements < 0) return fail("refinements must be >= 0");
+  if (max_steps < 1) return fail("max_steps must be at least 1");
+  return true;
+}
+
+EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& sensors,
+                                    const SensorParameters& theta, const Observations& obs,
+                                    const EvaluationOptions& options) {
+  std::string error;
+  if (!options.isValid(&error)) throw std::invalid_argument(error);
+  const int M = groupSize(sensors, 0), J = groupSize(sensors, 1), N = groupSize(sensors, 2);
+  const int T = obs.num_frames;
+  if (obs.marker.rows() != T || obs.joint.rows() != T || obs.tendon.rows() != T ||
+      obs.marker.cols() != 3 * M || obs.joint.cols() != J || obs.tendon.cols() != N)
+    throw std::invalid_argument("evaluatePrediction: the observations do not match the sensors");
+  if (static_cast<int>(theta.marker_position.size()) != M ||
+      static_cast<int>(theta.joint_sensor.size()) != J ||
+      static_cast<int>(theta.tendon_sensor.size()) != N)
+    throw std::invalid_argument("evaluatePrediction: the parameters do not match the sensors");
+  for (int g = 0; g < kNumSensorGroups; ++g)
+    if (options.use[g] && groupSize(sensors, g) == 0)
+      throw std::invalid_argument(std::string("evaluatePrediction: no ") +
+                                  groupName(static_cast<SensorGroup>(g)) +
+                                  " sensors to estimate q from");
+
+  const MeasurementModel model(robot, sensors);
+  EvaluationResult result;
+  result.frames = T;
+  result.q = T > 0 ? estimateQ(model, theta, obs, options) : RowMatrix(0, robot.dof());
+
+  // Absolute errors of every reading (NaN where missing), frames x sensors.
+  RowMatrix err_marker = RowMatrix::Constant(T, M, kNaN);
+  RowMatrix err_joint = RowMatrix::Constant(T, J, kNaN);
+  RowMatrix err_tendon = RowMatrix::Constant(T, N, kNaN);
+  const int threads = std::max(1, resolveThreads(options.threads));
+  std::vector<KinematicsWorkspace> kin;
+  kin.reserve(threads);
+  for (int i = 0; i < threads; ++i) kin.emplace_back(robot);
+  parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
+    Eigen::VectorXd pm(3 * M), pj(J), pt(N), q(robot.dof());
+    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+      q = result.q.row(t).transpose();
+      predictFrame(model, theta, q, &kin[tid], pm.data(), pj.data(), pt.data());
+      for (int m = 0; m < M; ++m) {
+        const Eigen::Vector3d x = obs.marker.row(t).segment<3>(3 * m).transpose();
+        if (x.allFinite()) err_marker(t, m) = (pm.segment<3>(3 * m) - x).norm();
+      }
+      for (int j = 0; j < J; ++j)
+        if (std::isfinite(obs.joint(t, j))) err_joint(t, j) = std::abs(pj[j] - obs.joint(t, j));
+      for (int k = 0; k < N; ++k)
+        if (std::isfinite(obs.tendon(t, k))) err_tendon(t, k) = std::abs(pt[k] - obs.tendon(t, k));
+    }
+  });
+
+  const RowMatrix* errors[kNumSensorGroups] = {&err_marker, &err_joint, &err_tendon};
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    GroupPredictionError& ge = result.group[g];
+    ge.present = groupSize(sensors, g) > 0;
+    ge.predicted = ge.present && options.predict[g];
+    ge.used = options.use[g];
+    ge.mae = kNaN;
+    if (!ge.predicted) continue;
+    double group_sum = 0.0;
+    for (int i = 0; i < groupSize(sensors, g); ++i) {
+      SensorPredictionError se;
+      se.name = sensorName(sensors, g, i);
+      se.group = static_cast<SensorGroup>(g);
+      se.index = i;
+      double sum = 0.0;
+      for (int t = 0; t < T; ++t) {
+        const double e = (*errors[g])(t, i);
+        if (std::isnan(e)) continue;
+        sum += e;
+        ++se.count;
+      }
+      se.mae = se.count > 0 ? sum / se.count : kNaN;
+      group_sum += sum;
+      ge.count += se.count;
+      result.sensors.push_back(se);
+    }
+    if (ge.count > 0) ge.mae = group_sum / ge.count;
+  }
+  return result;
+}
+
+std::vector<ParameterError> compareToTruth(const SensorSet& sensors,
+                                           const SensorParameters& theta,
+                                           const SensorSet& truth_sensors,
+                                           const SensorParameters& truth,
+                                           const std::string& truth_source) {
+  // Names in the truth, per group, to their index.
+  std::map<std::string, int> truth_index[kNumSensorGroups];
+  for (int g = 0; g < kNumSensorGroups; ++g)
+    for (int i = 0; i < groupSize(truth_sensors, g); ++i)
+      truth_index[g][sensorName(truth_sensors, g, i)] = i;
+
+  std::vector<std::string> missing, extra, mismatched;
+  std::vector<ParameterError> out;
+  if (!sensors.markers.empty()) {
+    if (truth_sensors.markers.empty()) {
+      missing.push_back("the mocap frame (no markers)");
+    } else {
+      out.push_back({"mocap.translation",
+                     (theta.mocap.translation - truth.mocap.translation).norm(), "m"});
+      out.push_back({"mocap.rotation",
+                     Eigen::AngleAxisd(theta.mocap.rotation * truth.mocap.rotation.inverse())
+                         .angle(),
+                     "rad"});
+    }
+  }
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    for (int i = 0; i < groupSize(sensors, g); ++i) {
+      const std::string& name = sensorName(sensors, g, i);
+      auto it = truth_index[g].find(name);
+      if (it == truth_index[g].end()) {
+        missing.push_back(name);
+        continue;
+      }
+      const int k = it->second;
+      truth_index[g].erase(it);
+      switch (static_cast<SensorGroup>(g)) {
+        case SensorGroup::kMarker:
+          if (sensors.markers[i].link != truth_sensors.markers[k].link) {
+            mismatched.push_back(name + " (link " + sensors.markers[i].link_name + " vs " +
+                                 truth_sensors.markers[k].link_name + ")");
+            continue;
+          }
+          out.push_back({name + ".position",
+                         (theta.marker_position[i] - truth.marker_position[k]).norm(), "m"});
+          break;
+        case SensorGroup::kJoint:
+          if (sensors.joint_sensors[i].joint != truth_sensors.joint_sensors[k].joint) {
+            mismatched.push_back(name + " (joint " + sensors.joint_sensors[i].joint_name +
+                                 " vs " + truth_sensors.joint_sensors[k].joint_name + ")");
+            continue;
+          }
+          out.push_back({name + ".gain", theta.joint_sensor[i].gain - truth.joint_sensor[k].gain, ""});
+          out.push_back({name + ".bias", theta.joint_sensor[i].bias - truth.joint_sensor[k].bias, ""});
+          break;
+        case SensorGroup::kTendon:
+          out.push_back({name + ".gain", theta.tendon_sensor[i].gain - truth.tendon_sensor[k].gain, ""});
+          out.push_back({name + ".bias", theta.tendon_sensor[i].bias - truth.tendon_sensor[k].bias, ""});
+          break;
+      }
+    }
+    for (const auto& [name, k] : truth_index[g]) extra.push_back(name);
+  }
+  auto join = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s;
+  };
+  std::string problem;
+  if (!missing.empty()) problem += "lacks " + join(missing);
+  if (!extra.empty())
+    problem += (problem.empty() ? "" : "; ") + std::string("has sensors the calibration lacks: ") +
+               join(extra);
+  if (!mismatched.empty())
+    problem += (problem.empty() ? "" : "; ") + std::string("attaches differently: ") +
+               join(mismatched);
+  if (!problem.empty())
+    throw InputError(truth_source, "the truth does not match the calibrated sensors: " + problem);
+  return out;
+}
+
+namespace {
+
+std::string number(double v, const char* fmt = "%.6g") {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+std::string jsonNumber(double v) { return std::isfinite(v) ? formatNumber(v) : "null"; }
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\r': out += "\\r"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+const char* kUnit[kNumSensorGroups] = {"m", "raw", "raw"};
+
+}  // namespace
+
+std::string evaluationReport(const EvaluationResult& r, const std::vector<ParameterError>* truth) {
+  std::ostringstream o;
+  std::string use;
+  for (int g = 0; g < kNumSensorGroups; ++g)
+    if (r.group[g].used) use += (use.empty() ? "" : ",") + std::string(groupName(static_cast<SensorGroup>(g)));
+  o << "cross-sensor prediction: q of " << r.frames << " frames estimated from " << use << "\n";
+  o << "mean absolute error per group (in parentheses: groups that also estimated q)\n";
+  char buf[256];
+  std::string head = " ", row = " ";
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    const GroupPredictionError& ge = r.group[g];
+    if (!ge.predicted) continue;
+    std::snprintf(buf, sizeof buf, " %16s", (std::string(groupName(static_cast<SensorGroup>(g))) +
+                                              " (" + kUnit[g] + ")").c_str());
+    head += buf;
+    const std::string v = ge.used ? "(" + number(ge.mae) + ")" : number(ge.mae);
+    std::snprintf(buf, sizeof buf, " %16s", v.c_str());
+    row += buf;
+  }
+  o << head << "\n" << row << "\n";
+  if (!r.sensors.empty()) {
+    o << "\nper sensor                          MAE     readings\n";
+    for (const SensorPredictionError& s : r.sensors) {
+      const int g = static_cast<int>(s.group);
+      std::snprintf(buf, sizeof buf, "  %-6s %-22s %12s %8d%s\n", groupName(s.group),
+                    s.name.c_str(), number(s.mae).c_str(), s.count,
+                    r.group[g].used ? "  (used)" : "");
+      o << buf;
+    }
+  }
+  if (truth) {
+    o << "\nparameter errors against the truth (gain, bias: estimate - truth; position,\n"
+         "translation: distance; rotation: angle)\n";
+    for (const ParameterError& p : *truth) {
+      std::snprintf(buf, sizeof buf, "  %-32s %14s%s%s\n", p.name.c_str(), number(p.error).c_str(),
+                    p.unit.empty() ? "" : " ", p.unit.c_str());
+      o << buf;
+    }
+  }
+  return o.str();
+}
+
+std::string evaluationJson(const EvaluationResult& r, const std::vector<ParameterError>* truth) {
+  std::ostringstream o;
+  o << "{\n  \"frames\": " << r.frames << ",\n  \"use\": [";
+  bool first = true;
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    if (!r.group[g].used) continue;
+    o << (first ? "" : ", ") << jsonString(groupName(static_cast<SensorGroup>(g)));
+    first = false;
+  }
+  o << "],\n  \"mae\": {";
+  first = true;
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    if (!r.group[g].predicted) continue;
+    o << (first ? "" : ", ") << jsonString(groupName(static_cast<SensorGroup>(g))) << ": "
+      << jsonNumber(r.group[g].mae);
+    first = false;
+  }
+  o << "},\n  \"per_sensor\": {";
+  first = true;
+  for (const SensorPredictionError& s : r.sensors) {
+    o << (first ? "\n" : ",\n") << "    " << jsonString(s.name) << ": {\"mae\": "
+      << jsonNumber(s.mae) << ", \"count\": " << s.count << "}";
+    first = false;
+  }
+  o << (first ? "}" : "\n  }");
+  if (truth) {
+    o << ",\n  \"truth\": {";
+    first = true;
+    for (const ParameterError& p : *truth) {
+      o << (first ? "\n" : ",\n") << "    " << jsonString(p.name) << ": " << jsonNumber(p.error);
+      first = false;
+    }
+    o << (first ? "}" : "\n  }");
+  }
+  o << "\n}\n";
+  return o.str();
+}
+
+}  // namespace stac
