@@ -358,4 +358,69 @@ std::string evaluationJson(const EvaluationResult& r, const std::vector<Paramete
   return o.str();
 }
 
+std::vector<CrossSensorRow> crossSensorTable(const RobotModel& robot, const SensorSet& sensors,
+                                             const SensorParameters& theta,
+                                             const Observations& obs,
+                                             const EvaluationOptions& options) {
+  const bool present[kNumSensorGroups] = {!sensors.markers.empty(), !sensors.joint_sensors.empty(),
+                                          !sensors.tendon_sensors.empty()};
+  // Group subsets as bit masks, ordered by size, then by group order: the
+  // single-sensor rows of the paper's tables come first.
+  std::vector<int> masks;
+  for (int size = 1; size <= kNumSensorGroups; ++size)
+    for (int mask = 1; mask < (1 << kNumSensorGroups); ++mask) {
+      int bits = 0;
+      bool ok = true;
+      for (int g = 0; g < kNumSensorGroups; ++g)
+        if (mask & (1 << g)) {
+          ++bits;
+          ok = ok && present[g];
+        }
+      if (ok && bits == size) masks.push_back(mask);
+    }
+  std::vector<CrossSensorRow> rows;
+  for (int mask : masks) {
+    EvaluationOptions o = options;
+    CrossSensorRow row;
+    for (int g = 0; g < kNumSensorGroups; ++g) {
+      o.use[g] = (mask & (1 << g)) != 0;
+      o.predict[g] = present[g];
+      if (o.use[g])
+        row.label += (row.label.empty() ? "" : "+") + std::string(groupName(static_cast<SensorGroup>(g)));
+    }
+    row.result = evaluatePrediction(robot, sensors, theta, obs, o);
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+std::string crossSensorTableText(const std::vector<CrossSensorRow>& rows) {
+  if (rows.empty()) return "";
+  std::ostringstream o;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "  %-24s", "q estimated from");
+  o << buf;
+  const EvaluationResult& first = rows.front().result;
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    if (!first.group[g].predicted) continue;
+    std::snprintf(buf, sizeof buf, " %16s",
+                  (std::string(groupName(static_cast<SensorGroup>(g))) + " (" + kUnit[g] + ")").c_str());
+    o << buf;
+  }
+  o << "\n";
+  for (const CrossSensorRow& row : rows) {
+    std::snprintf(buf, sizeof buf, "  %-24s", row.label.c_str());
+    o << buf;
+    for (int g = 0; g < kNumSensorGroups; ++g) {
+      const GroupPredictionError& ge = row.result.group[g];
+      if (!first.group[g].predicted) continue;
+      const std::string v = ge.used ? "(" + number(ge.mae) + ")" : number(ge.mae);
+      std::snprintf(buf, sizeof buf, " %16s", v.c_str());
+      o << buf;
+    }
+    o << "\n";
+  }
+  return o.str();
+}
+
 }  // namespace stac

@@ -69,6 +69,25 @@ EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& se
                                     const SensorParameters& theta, const Observations& obs,
                                     const EvaluationOptions& options);
 
+// One row of the paper's Tables I/II: q estimated from the groups of `use`,
+// every present group predicted.
+struct CrossSensorRow {
+  std::string label;   // e.g. "joint+tendon"
+  EvaluationResult result;
+};
+
+// The rows for every non-empty combination of the groups the sensors have
+// (single groups first, then pairs, then all), each evaluated on obs with
+// options' solver settings (options.use and options.predict are ignored).
+std::vector<CrossSensorRow> crossSensorTable(const RobotModel& robot, const SensorSet& sensors,
+                                             const SensorParameters& theta,
+                                             const Observations& obs,
+                                             const EvaluationOptions& options);
+
+// The rows as a text table, MAE per predicted group. Parenthesised values:
+// the group also estimated q (the model's fit rather than a prediction).
+std::string crossSensorTableText(const std::vector<CrossSensorRow>& rows);
+
 // One parameter's error against a known truth.
 struct ParameterError {
   std::string name;  // "<sensor>.gain", "<sensor>.bias", "<marker>.position",
