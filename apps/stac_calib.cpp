@@ -5,19 +5,17 @@
 #include <iostream>
 #include <sstream>
 
-#include "common/calib_report.hpp"
 #include "common/cli.hpp"
 #include "common/outputs.hpp"
 #include "stac/calibrate.hpp"
+#include "stac/classical.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
-#include "stac/residuals.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
-#include "stac/urdf_patch.hpp"
 
 namespace {
 
@@ -33,10 +31,22 @@ const std::vector<cli::Option> kOptions = {
     {"sensors", "FILE", "sensors file with the seed (YAML); inferred from the log header if absent"},
     {"output", "FILE", "calibration to write (default: calibration.yaml)"},
     {"joint-angles", "FILE", "also write the estimated joint angles per frame (CSV)"},
-    {"urdf-out", "FILE", "also write the URDF with its marker links moved to the calibrated positions"},
-    {"report", "FILE", "also write an HTML report (convergence, residuals, marker positions)"},
-    {"method", "stac|joint", "alternating STAC (default) or one monolithic problem"},
-    {"q-phase", "lm-iter|lm-batch|bfgs", "per-frame solver of the q-phase (default lm-iter)"},
+    {"method", "stac|joint|ekf|classical",
+     "alternating STAC (default), one monolithic problem, or a baseline: extended Kalman "
+     "filter over [theta; q] (paper IV-A), classical regression with q read off the joint "
+     "sensors (paper IV-B; needs a joint sensor on every joint)"},
+    {"q-phase", "lm-iter|lm-batch|bfgs",
+     "per-frame solver of the q-phase (default lm-iter; --method stac only)"},
+    {"ekf-initial-q", "FILE",
+     "EKF: q of the first frame from the first row of a joint-angles CSV (as written by "
+     "--joint-angles); default: frame 0 solved with the seed"},
+    {"ekf-q-speed", "V",
+     "EKF: random-walk std of q per frame = V * joint range * frame interval (default 10)"},
+    {"ekf-iterations", "N",
+     "EKF: measurement updates per frame; 1 = the paper's EKF (default), more = iterated EKF"},
+    {"ekf-theta-std", "K",
+     "EKF: multiplies the seed std of theta (0.2 rad, 0.1 m frame, 0.05 m markers, gain 30%, "
+     "bias 0.3 rad / 0.02 m times the gain; default 1)"},
     {"max-iterations", "N", "outer iterations at most (default 200)"},
     {"tolerance", "TOL", "stop when the relative cost decrease is below TOL (default 1e-7)"},
     {"threads", "N", "worker threads; 0 = all cores (default)"},
@@ -114,12 +124,22 @@ int run(const cli::Args& args) {
   const std::string sensors_path = args.get("sensors");
   const std::string output = args.get("output", "calibration.yaml");
   const std::string q_path = args.get("joint-angles");
-  const std::string urdf_out = args.get("urdf-out"), report_path = args.get("report");
 
   CalibrationOptions options;
-  options.method = args.getChoice("method", {"stac", "joint"}, "stac") == "joint"
-                       ? Method::kJoint
-                       : Method::kStac;
+  const std::string method =
+      args.getChoice("method", {"stac", "joint", "ekf", "classical"}, "stac");
+  options.method = method == "joint"       ? Method::kJoint
+                   : method == "ekf"       ? Method::kEkf
+                   : method == "classical" ? Method::kClassical
+                                           : Method::kStac;
+  for (const char* ekf_option :
+       {"ekf-initial-q", "ekf-q-speed", "ekf-theta-std", "ekf-iterations"})
+    if (args.has(ekf_option) && options.method != Method::kEkf)
+      throw cli::UsageError(std::string("--") + ekf_option + " needs --method ekf");
+  const std::string ekf_q_path = args.get("ekf-initial-q");
+  options.ekf.q_speed = args.getDouble("ekf-q-speed", options.ekf.q_speed);
+  options.ekf.theta_std_scale = args.getDouble("ekf-theta-std", options.ekf.theta_std_scale);
+  options.ekf.iterations = args.getInt("ekf-iterations", options.ekf.iterations);
   const std::string qp = args.getChoice("q-phase", {"lm-iter", "lm-batch", "bfgs"}, "lm-iter");
   options.q_phase = qp == "lm-batch" ? QPhaseMethod::kLmBatch
                     : qp == "bfgs"   ? QPhaseMethod::kBfgs
@@ -141,10 +161,9 @@ int run(const cli::Args& args) {
 
   std::vector<std::string> inputs = {urdf, log_path};
   if (!sensors_path.empty()) inputs.push_back(sensors_path);
+  if (!ekf_q_path.empty()) inputs.push_back(ekf_q_path);
   std::vector<std::pair<std::string, std::string>> outputs = {{"--output", output}};
   if (!q_path.empty()) outputs.emplace_back("--joint-angles", q_path);
-  if (args.has("urdf-out")) outputs.emplace_back("--urdf-out", urdf_out);
-  if (args.has("report")) outputs.emplace_back("--report", report_path);
   checkOutputs(inputs, outputs);
 
   const RobotModel robot = RobotModel::fromFile(urdf);
@@ -154,13 +173,22 @@ int run(const cli::Args& args) {
   const Observations obs =
       bindLog(log, sf.sensors, sensors_path.empty() ? log_path : sensors_path, mocap_scale);
   if (obs.num_frames == 0) throw InputError(log_path, "the log has no data rows");
+  if (options.method == Method::kClassical) {
+    const JointSources sources = findJointSources(robot, sf.sensors);
+    if (!sources.uncovered.empty()) {
+      std::string names;
+      for (const std::string& j : sources.uncovered) names += (names.empty() ? "" : ", ") + j;
+      throw InputError(sensors_path.empty() ? log_path : sensors_path,
+                       "--method classical reads every joint angle off a one-joint sensor, but "
+                       "these joints have none: " + names +
+                       " (tendon-spanned joints need --method stac)");
+    }
+  }
+  if (!ekf_q_path.empty()) options.ekf.initial_q = firstJointAngles(readLog(ekf_q_path), robot);
 
   const bool quiet = args.has("quiet");
-  std::vector<IterationReport> history;  // for the report's convergence plot
-  if (!quiet || !report_path.empty()) {
-    options.progress = [quiet, &history](const IterationReport& r) {
-      history.push_back(r);
-      if (quiet) return;
+  if (!quiet) {
+    options.progress = [](const IterationReport& r) {
       char buf[256];
       int n = std::snprintf(buf, sizeof buf, "%-5s %4d  cost %-12.6g", r.stage.c_str(),
                             r.iteration, r.cost);
@@ -183,48 +211,10 @@ int run(const cli::Args& args) {
     q_log = jointAnglesLog(robot, q, obs.time);
     if (!obs.time_name.empty()) q_log.time_name = obs.time_name;
   }
-  UrdfPatch urdf_patch;
-  if (!urdf_out.empty())
-    urdf_patch = patchUrdfMarkers(readTextFile(urdf), robot, result.sensors, result.theta, urdf);
-  std::string report;
-  if (!report_path.empty()) {
-    // Residuals on the frames calibrate() used for "before": the seed θ with
-    // q fitted to it, and the final θ and q (refitted if the method gave none).
-    ResidualSampleOptions ro;
-    ro.threads = options.threads;
-    ro.loss = options.loss;
-    ro.loss_scale = options.loss_scale;
-    const bool have_q = q.rows() == obs.num_frames && q.cols() == robot.dof();
-    report = cli::calibrationReportHtml(
-        robot, sf.sensors, sf.theta, result, history,
-        sampleResiduals(robot, sf.sensors, sf.theta, obs, nullptr, ro),
-        sampleResiduals(robot, result.sensors, result.theta, obs, have_q ? &q : nullptr, ro),
-        {urdf, log_path, sensors_path});
-  }
   writeOutput(output, yaml);
   if (!q_path.empty()) cli::writeLogOutput(q_path, q_log);
-  if (!urdf_out.empty()) writeOutput(urdf_out, urdf_patch.urdf);
-  if (!report_path.empty()) writeOutput(report_path, report);
   const MeasurementModel model(robot, sf.sensors);
   printSummary(robot, sf.sensors, sf.theta, result, model, output);
-  if (!urdf_out.empty()) {
-    std::cout << "calibrated URDF written to " << urdf_out << ": " << urdf_patch.placed.size()
-              << " marker link(s) on the calibrated markers\n";
-    // The calibration's positions stay right for markers on another link;
-    // on their own moved link they are now at its origin.
-    std::string at_origin;
-    for (const PlacedMarker& p : urdf_patch.placed)
-      for (const MarkerConfig& m : sf.sensors.markers)
-        if (m.name == p.marker && m.link_name == p.link) at_origin += " " + p.marker;
-    if (!at_origin.empty())
-      std::cout << "with that URDF these markers are at [0, 0, 0] of their link:" << at_origin << "\n";
-    if (!urdf_patch.unplaced.empty()) {
-      std::cout << "markers not written to the URDF (no marker link of their own):\n";
-      for (const UnplacedMarker& u : urdf_patch.unplaced)
-        std::cout << "  " << u.marker << ": " << u.reason << "\n";
-    }
-  }
-  if (!report_path.empty()) std::cout << "report written to " << report_path << "\n";
   return 0;
 }
 

@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "stac/classical.hpp"
 #include "stac/parallel.hpp"
 #include "stac/schur.hpp"
 #include "stac/theta_phase.hpp"
@@ -48,6 +49,7 @@ bool CalibrationOptions::isValid(std::string* error) const {
   if (threads < 0) return fail("threads must be >= 0 (0 = all cores)");
   if (!(loss_scale > 0) || !std::isfinite(loss_scale))
     return fail("loss scale must be positive and finite");
+  if (method == Method::kEkf && !ekf.isValid(error)) return false;
   return true;
 }
 
@@ -279,6 +281,28 @@ void residualStatistics(const MeasurementModel& model, const SensorParameters& t
   for (int k = 0; k < N; ++k) result->tendon_residual.push_back(stats(M + J + k));
 }
 
+void fittedResidualRms(const MeasurementModel& model, const SensorParameters& theta,
+                       const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
+                       const RowMatrix& q_start, int threads, double rms[kNumSensorGroups]) {
+  threads = resolveThreads(threads);
+  std::vector<FrameWorkspace> ws;
+  for (int i = 0; i < threads; ++i) ws.emplace_back(model);
+  const std::vector<int> sub = spreadFrames(obs.num_frames, kInitFrames);
+  const Observations sub_obs = selectFrames(obs, sub);
+  QState seed_state;
+  seed_state.q = RowMatrix(sub_obs.num_frames, model.dof());
+  for (int k = 0; k < sub_obs.num_frames; ++k) seed_state.q.row(k) = q_start.row(sub[k]);
+  QPhaseOptions qo;
+  qo.method = QPhaseMethod::kLmBatch;
+  qo.max_steps = 10;
+  qo.threads = threads;
+  qPhase(model, theta, noise, loss, sub_obs, qo, &ws, &seed_state);
+  const PassStats before = costPass(model, theta, noise, NoiseModel::fromSeeds(model.sensors()),
+                                    loss, sub_obs, seed_state.q, false, threads, &ws);
+  for (int g = 0; g < kNumSensorGroups; ++g)
+    rms[g] = before.count[g] > 0 ? std::sqrt(before.sse[g] / before.count[g]) : 0;
+}
+
 CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
                             const SensorParameters& seed, const Observations& obs,
                             const CalibrationOptions& options, RowMatrix* joint_angles,
@@ -286,6 +310,16 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   std::string error;
   if (!options.isValid(&error)) throw std::invalid_argument(error);
   if (obs.num_frames < 1) throw std::invalid_argument("the log has no frames");
+  // The baselines (ekf.hpp, classical.hpp).
+  if (options.method == Method::kEkf) {
+    if (!q0 || options.ekf.initial_q.size() != 0)
+      return calibrateEkf(robot, sensors, seed, obs, options, joint_angles);
+    CalibrationOptions with_q0 = options;
+    with_q0.ekf.initial_q = q0->row(0).transpose();
+    return calibrateEkf(robot, sensors, seed, obs, with_q0, joint_angles);
+  }
+  if (options.method == Method::kClassical)
+    return calibrateClassical(robot, sensors, seed, obs, options, joint_angles);
   const Clock::time_point start = Clock::now();
   const MeasurementModel model(robot, sensors);
   const NoiseModel seed_noise = NoiseModel::fromSeeds(sensors);
@@ -310,24 +344,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   CalibrationSummary& summary = result.summary;
   summary.method = options.method == Method::kStac ? "stac" : "joint";
   summary.frames = obs.num_frames;
-  // "Before": each q_t fitted to the seed θ (a few LM steps per frame), on
-  // frames spread over the log.
-  {
-    const std::vector<int> sub = spreadFrames(obs.num_frames, kInitFrames);
-    const Observations sub_obs = selectFrames(obs, sub);
-    QState seed_state;
-    seed_state.q = RowMatrix(sub_obs.num_frames, robot.dof());
-    for (int k = 0; k < sub_obs.num_frames; ++k) seed_state.q.row(k) = state.q.row(sub[k]);
-    QPhaseOptions qo;
-    qo.method = QPhaseMethod::kLmBatch;
-    qo.max_steps = 10;
-    qo.threads = threads;
-    qPhase(model, theta, noise, loss, sub_obs, qo, &ws, &seed_state);
-    const PassStats before = costPass(model, theta, noise, seed_noise, loss, sub_obs,
-                                      seed_state.q, false, threads, &ws);
-    for (int g = 0; g < kNumSensorGroups; ++g)
-      summary.before_rms[g] = before.count[g] > 0 ? std::sqrt(before.sse[g] / before.count[g]) : 0;
-  }
+  fittedResidualRms(model, theta, noise, loss, obs, state.q, threads, summary.before_rms);
   PassStats st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, false,
                           threads, &ws);
   summary.initial_cost = st.cost;

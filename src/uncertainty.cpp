@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <stdexcept>
 
 #include "stac/parallel.hpp"
 #include "stac/q_phase.hpp"
@@ -129,7 +130,22 @@ UncertaintyResult estimateUncertainty(const MeasurementModel& model,
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(nf, nf);
   for (const Eigen::MatrixXd& b : block_S) S += b;
   S = S.selfadjointView<Eigen::Lower>();
+  return uncertaintyFromInformation(model, theta, S);
+}
+
+UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
+                                             const SensorParameters& theta,
+                                             const Eigen::MatrixXd& S) {
+  const int n_theta = model.thetaSize();
+  UncertaintyResult out;
+  for (int i = 0; i < n_theta; ++i)
+    if (model.thetaFree()[i]) out.free_index.push_back(i);
+  const int nf = static_cast<int>(out.free_index.size());
+  if (S.rows() != nf || S.cols() != nf)
+    throw std::invalid_argument("information matrix does not match the free parameters");
+  out.std = Eigen::VectorXd::Zero(n_theta);
   out.information = S;
+  if (nf == 0) return out;
 
   // Identifiability in comparable units.
   const Eigen::VectorXd full_scale = model.thetaScale(theta);

@@ -1,4 +1,6 @@
-// Calibration: STAC alternation (paper §II-C) or one monolithic problem.
+// Calibration: STAC alternation (paper §II-C) or one monolithic problem,
+// and the paper's two baselines: an EKF (§IV-A, ekf.hpp) and the classical
+// regression with σ_p -> 0 (§IV-B, classical.hpp).
 //
 //   CalibrationOptions options;            // validated by isValid()
 //   CalibrationResult r = calibrate(robot, sensors, seed, observations,
@@ -11,6 +13,7 @@
 #include <string>
 
 #include "stac/calibration.hpp"
+#include "stac/ekf.hpp"
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
 #include "stac/q_phase.hpp"
@@ -19,7 +22,7 @@
 
 namespace stac {
 
-enum class Method { kStac, kJoint };
+enum class Method { kStac, kJoint, kEkf, kClassical };
 
 struct IterationReport {
   int iteration = 0;
@@ -27,7 +30,7 @@ struct IterationReport {
   double rms[kNumSensorGroups] = {0, 0, 0};  // raw units (metres, volts...)
   bool present[kNumSensorGroups] = {false, false, false};
   double elapsed = 0.0;                      // seconds since the start
-  std::string stage;                         // "init" or "stac" or "joint"
+  std::string stage;  // "init", "stac", "joint", "ekf" (per ~10% of frames), "classical"
 };
 
 struct CalibrationOptions {
@@ -42,19 +45,28 @@ struct CalibrationOptions {
   bool wide_basin_init = true; // marker-first initialisation (see calibrate.cpp)
   bool coupled_steps = true;  // finish with coupled (q, θ) steps (schur.hpp)
   int max_downweighted = 20;   // readings listed in the summary
+  EkfOptions ekf;              // Method::kEkf only
   std::function<void(const IterationReport&)> progress;
 
   bool isValid(std::string* error) const;
 };
 
 // q0: initial joint angles (frames x dof), or nullptr for the neutral pose
-// (0 clamped into the limits) in every frame. joint_angles (optional)
-// receives the final q_t.
+// (0 clamped into the limits) in every frame (the EKF uses its first row
+// unless options.ekf.initial_q is set; the classical regression ignores it).
+// joint_angles (optional) receives the final q_t.
 CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
                             const SensorParameters& seed, const Observations& obs,
                             const CalibrationOptions& options,
                             RowMatrix* joint_angles = nullptr,
                             const RowMatrix* q0 = nullptr);
+
+// RMS residual per group in raw units with θ held fixed and each q_t fitted
+// to it (a few LM steps from q_start, frames x dof), on at most 1000 frames
+// spread over the log: the summary's "before".
+void fittedResidualRms(const MeasurementModel& model, const SensorParameters& theta,
+                       const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
+                       const RowMatrix& q_start, int threads, double rms[kNumSensorGroups]);
 
 // Per-sensor residual statistics in raw units at the given q and θ.
 void residualStatistics(const MeasurementModel& model, const SensorParameters& theta,

@@ -31,6 +31,13 @@ UncertaintyResult estimateUncertainty(const MeasurementModel& model,
                                       const Observations& obs, const RowMatrix& q,
                                       int threads, std::vector<FrameWorkspace>* ws);
 
+// The same analysis for an information matrix S about θ computed elsewhere
+// (free entries only, in MeasurementModel order: e.g. the Gauss-Newton JᵀJ
+// of a regression over θ alone, or the inverse of a filter's covariance).
+UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
+                                             const SensorParameters& theta,
+                                             const Eigen::MatrixXd& S);
+
 // Copies per-θ-entry standard deviations into the per-sensor structure.
 ParameterStd toParameterStd(const MeasurementModel& model, const Eigen::VectorXd& std);
 
