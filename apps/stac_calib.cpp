@@ -5,6 +5,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "common/calib_report.hpp"
 #include "common/cli.hpp"
 #include "common/outputs.hpp"
 #include "stac/calibrate.hpp"
@@ -13,9 +14,11 @@
 #include "stac/file_io.hpp"
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
+#include "stac/residuals.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
+#include "stac/urdf_patch.hpp"
 
 namespace {
 
@@ -31,6 +34,8 @@ const std::vector<cli::Option> kOptions = {
     {"sensors", "FILE", "sensors file with the seed (YAML); inferred from the log header if absent"},
     {"output", "FILE", "calibration to write (default: calibration.yaml)"},
     {"joint-angles", "FILE", "also write the estimated joint angles per frame (CSV)"},
+    {"urdf-out", "FILE", "also write the URDF with its marker links moved to the calibrated positions"},
+    {"report", "FILE", "also write an HTML report (convergence, residuals, marker positions)"},
     {"method", "stac|joint|ekf|classical",
      "alternating STAC (default), one monolithic problem, or a baseline: extended Kalman "
      "filter over [theta; q] (paper IV-A), classical regression with q read off the joint "
@@ -124,6 +129,7 @@ int run(const cli::Args& args) {
   const std::string sensors_path = args.get("sensors");
   const std::string output = args.get("output", "calibration.yaml");
   const std::string q_path = args.get("joint-angles");
+  const std::string urdf_out = args.get("urdf-out"), report_path = args.get("report");
 
   CalibrationOptions options;
   const std::string method =
@@ -164,6 +170,8 @@ int run(const cli::Args& args) {
   if (!ekf_q_path.empty()) inputs.push_back(ekf_q_path);
   std::vector<std::pair<std::string, std::string>> outputs = {{"--output", output}};
   if (!q_path.empty()) outputs.emplace_back("--joint-angles", q_path);
+  if (args.has("urdf-out")) outputs.emplace_back("--urdf-out", urdf_out);
+  if (args.has("report")) outputs.emplace_back("--report", report_path);
   checkOutputs(inputs, outputs);
 
   const RobotModel robot = RobotModel::fromFile(urdf);
@@ -187,8 +195,11 @@ int run(const cli::Args& args) {
   if (!ekf_q_path.empty()) options.ekf.initial_q = firstJointAngles(readLog(ekf_q_path), robot);
 
   const bool quiet = args.has("quiet");
-  if (!quiet) {
-    options.progress = [](const IterationReport& r) {
+  std::vector<IterationReport> history;  // for the report's convergence plot
+  if (!quiet || !report_path.empty()) {
+    options.progress = [quiet, &history](const IterationReport& r) {
+      history.push_back(r);
+      if (quiet) return;
       char buf[256];
       int n = std::snprintf(buf, sizeof buf, "%-5s %4d  cost %-12.6g", r.stage.c_str(),
                             r.iteration, r.cost);
@@ -211,10 +222,48 @@ int run(const cli::Args& args) {
     q_log = jointAnglesLog(robot, q, obs.time);
     if (!obs.time_name.empty()) q_log.time_name = obs.time_name;
   }
+  UrdfPatch urdf_patch;
+  if (!urdf_out.empty())
+    urdf_patch = patchUrdfMarkers(readTextFile(urdf), robot, result.sensors, result.theta, urdf);
+  std::string report;
+  if (!report_path.empty()) {
+    // Residuals on the frames calibrate() used for "before": the seed θ with
+    // q fitted to it, and the final θ and q (refitted if the method gave none).
+    ResidualSampleOptions ro;
+    ro.threads = options.threads;
+    ro.loss = options.loss;
+    ro.loss_scale = options.loss_scale;
+    const bool have_q = q.rows() == obs.num_frames && q.cols() == robot.dof();
+    report = cli::calibrationReportHtml(
+        robot, sf.sensors, sf.theta, result, history,
+        sampleResiduals(robot, sf.sensors, sf.theta, obs, nullptr, ro),
+        sampleResiduals(robot, result.sensors, result.theta, obs, have_q ? &q : nullptr, ro),
+        {urdf, log_path, sensors_path});
+  }
   writeOutput(output, yaml);
   if (!q_path.empty()) cli::writeLogOutput(q_path, q_log);
+  if (!urdf_out.empty()) writeOutput(urdf_out, urdf_patch.urdf);
+  if (!report_path.empty()) writeOutput(report_path, report);
   const MeasurementModel model(robot, sf.sensors);
   printSummary(robot, sf.sensors, sf.theta, result, model, output);
+  if (!urdf_out.empty()) {
+    std::cout << "calibrated URDF written to " << urdf_out << ": " << urdf_patch.placed.size()
+              << " marker link(s) on the calibrated markers\n";
+    // The calibration's positions stay right for markers on another link;
+    // on their own moved link they are now at its origin.
+    std::string at_origin;
+    for (const PlacedMarker& p : urdf_patch.placed)
+      for (const MarkerConfig& m : sf.sensors.markers)
+        if (m.name == p.marker && m.link_name == p.link) at_origin += " " + p.marker;
+    if (!at_origin.empty())
+      std::cout << "with that URDF these markers are at [0, 0, 0] of their link:" << at_origin << "\n";
+    if (!urdf_patch.unplaced.empty()) {
+      std::cout << "markers not written to the URDF (no marker link of their own):\n";
+      for (const UnplacedMarker& u : urdf_patch.unplaced)
+        std::cout << "  " << u.marker << ": " << u.reason << "\n";
+    }
+  }
+  if (!report_path.empty()) std::cout << "report written to " << report_path << "\n";
   return 0;
 }
 
