@@ -100,7 +100,12 @@ void convergenceSection(std::ostringstream& o, const std::vector<IterationReport
   for (int g = 0; g < kNumSensorGroups; ++g)
     if (present[g]) groups.push_back(rms[g]);
   svg::PlotOptions po;
-  po.x_label = increasing ? "outer iteration (0: initialisation)" : "progress report";
+  // The EKF reports as it filters (about every tenth of the frames), the
+  // iterative methods once per outer iteration.
+  const bool filter = !history.empty() && history.back().stage == "ekf";
+  po.x_label = filter       ? "filter progress report (every ~10% of the frames)"
+               : increasing ? "outer iteration (0: initialisation)"
+                            : "progress report";
   po.log_y = true;
   po.title = "cost ½Σρ (at each iteration's σ)";
   po.y_label = "cost";
