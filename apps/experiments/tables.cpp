@@ -10,6 +10,8 @@
 //              (link origins; CAD-known ones at their positions), as the
 //              paper's "manual" rows did not calibrate markers;
 //   stac       stac_calib's default from the paper's seeding, every sensor;
+//   stac σp→0  STAC with the pots and tendon sensors nearly noise-free
+//              (σ / 1000, fixed): the paper's Table II "stac-σp = 0" row;
 //   classical  σ_p -> 0 (paper §IV-B) from the manual calibration, where every
 //              joint has a one-joint sensor (hand24; humanoid38's gimbals
 //              are measured by linear pots only, which it cannot use).
@@ -142,6 +144,20 @@ std::string runTables(const Context& context) {
     const CalibrationResult stac = calibrate(bot.robot, sensors, bot.seed.theta, train, options);
     progressLine(context, "tables: " + name + " stac calibrated in " + fmt(stac.summary.wall_time, "%.3g") + " s");
     add("stac", stac.theta, stac.sensors);
+    // The paper's Table II row "stac-σp = 0": STAC with the pots and tendon
+    // sensors trusted almost absolutely (σ / 1000, no variance adaptation),
+    // which works on every robot, gimbals measured by linear pots included.
+    {
+      SensorSet trusted = sensors;
+      for (JointSensorConfig& j : trusted.joint_sensors) j.sigma *= 1e-3;
+      for (TendonSensorConfig& t : trusted.tendon_sensors) t.sigma *= 1e-3;
+      CalibrationOptions so = options;
+      so.adapt_variance = false;
+      const CalibrationResult r = calibrate(bot.robot, trusted, bot.seed.theta, train, so);
+      progressLine(context, "tables: " + name + " stac sigma_p -> 0 calibrated in " +
+                                fmt(r.summary.wall_time, "%.3g") + " s");
+      add("stac σp→0", r.theta, sensors);
+    }
     std::string classical_note;
     const JointSources sources = findJointSources(bot.robot, sensors);
     if (sources.uncovered.empty()) {
