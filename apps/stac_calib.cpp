@@ -11,6 +11,7 @@
 #include "stac/calibrate.hpp"
 #include "stac/classical.hpp"
 #include "stac/error.hpp"
+#include "stac/evaluate.hpp"
 #include "stac/file_io.hpp"
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
@@ -59,6 +60,8 @@ const std::vector<cli::Option> kOptions = {
     {"loss-scale", "S", "robust loss scale in standard deviations (default 3)"},
     {"no-adapt-variance", "", "keep every sigma at its seed value"},
     {"mocap-units", "m|mm", "unit of the marker columns (default m)"},
+    {"holdout", "F", "keep the last fraction F of the frames (0 < F < 1) out of the fit and print "
+                     "the cross-sensor prediction table on them"},
     {"quiet", "", "no progress lines on stderr"},
 };
 
@@ -164,6 +167,9 @@ int run(const cli::Args& args) {
   if (options.max_iterations < 1) throw cli::UsageError("--max-iterations must be at least 1");
   if (options.threads < 0) throw cli::UsageError("--threads must be >= 0 (0 = all cores)");
   if (!options.isValid(&error)) throw cli::UsageError(error);
+  const double holdout = args.getDouble("holdout", 0.0);
+  if (args.has("holdout") && !(holdout > 0.0 && holdout < 1.0))
+    throw cli::UsageError("--holdout must be a fraction of the frames between 0 and 1 (e.g. 0.3)");
 
   std::vector<std::string> inputs = {urdf, log_path};
   if (!sensors_path.empty()) inputs.push_back(sensors_path);
@@ -178,9 +184,8 @@ int run(const cli::Args& args) {
   const Log log = readLog(log_path);
   const SensorsFile sf = sensors_path.empty() ? inferSensorsFromLog(log, robot)
                                               : loadSensorsFile(sensors_path, robot);
-  const Observations obs =
+  const Observations all =
       bindLog(log, sf.sensors, sensors_path.empty() ? log_path : sensors_path, mocap_scale);
-  if (obs.num_frames == 0) throw InputError(log_path, "the log has no data rows");
   if (options.method == Method::kClassical) {
     const JointSources sources = findJointSources(robot, sf.sensors);
     if (!sources.uncovered.empty()) {
@@ -193,6 +198,16 @@ int run(const cli::Args& args) {
     }
   }
   if (!ekf_q_path.empty()) options.ekf.initial_q = firstJointAngles(readLog(ekf_q_path), robot);
+  if (all.num_frames == 0) throw InputError(log_path, "the log has no data rows");
+  // A time-block split: neighbouring frames are correlated, so the held-out
+  // frames are the end of the log, never a random sample.
+  const int test_frames = static_cast<int>(std::lround(holdout * all.num_frames));
+  if (holdout > 0.0 && (test_frames < 1 || test_frames > all.num_frames - 2))
+    throw InputError(log_path, "--holdout " + args.get("holdout") + " of " +
+                                   std::to_string(all.num_frames) +
+                                   " frames leaves no frame to fit or none to test");
+  const Observations obs =
+      test_frames > 0 ? sliceFrames(all, 0, all.num_frames - test_frames) : all;
 
   const bool quiet = args.has("quiet");
   std::vector<IterationReport> history;  // for the report's convergence plot
@@ -264,6 +279,17 @@ int run(const cli::Args& args) {
     }
   }
   if (!report_path.empty()) std::cout << "report written to " << report_path << "\n";
+  if (test_frames > 0) {
+    const Observations test = sliceFrames(all, all.num_frames - test_frames, all.num_frames);
+    EvaluationOptions eval;
+    eval.threads = options.threads;
+    const std::vector<CrossSensorRow> rows =
+        crossSensorTable(robot, result.sensors, result.theta, test, eval);
+    std::cout << "\nheld out: the last " << test_frames << " of " << all.num_frames
+              << " frames (not used in the fit); cross-sensor prediction, mean absolute error\n"
+              << "(markers: Euclidean distance; parentheses: the group also estimated q)\n"
+              << crossSensorTableText(rows);
+  }
   return 0;
 }
 

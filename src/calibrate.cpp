@@ -165,8 +165,9 @@ double adaptNoise(const PassStats& st, const NoiseModel& seed, double kappa[3],
 }
 
 IterationReport makeReport(int it, const PassStats& st, Clock::time_point start,
-                           const std::string& stage) {
+                           const std::string& stage, const SensorParameters* theta = nullptr) {
   IterationReport r;
+  r.theta = theta;
   r.iteration = it;
   r.cost = st.cost;
   for (int g = 0; g < kNumSensorGroups; ++g) {
@@ -375,9 +376,9 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
       adaptNoise(st, seed_noise, kappa, &noise);
       st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, false, threads, &ws);
     }
-    if (options.progress) options.progress(makeReport(0, st, start, "init"));
+    if (options.progress) options.progress(makeReport(0, st, start, "init", &theta));
   } else if (options.progress) {
-    options.progress(makeReport(0, st, start, "seed"));
+    options.progress(makeReport(0, st, start, "seed", &theta));
   }
 
   int iterations = 0;
@@ -391,7 +392,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
       iterations += its;
       st = costPass(model, theta, noise, seed_noise, loss, obs, state.q,
                     options.adapt_variance, threads, &ws);
-      if (options.progress) options.progress(makeReport(round + 1, st, start, "joint"));
+      if (options.progress) options.progress(makeReport(round + 1, st, start, "joint", &theta));
       if (!options.adapt_variance) break;
       const double change = adaptNoise(st, seed_noise, kappa, &noise);
       st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, false, threads, &ws);
@@ -422,7 +423,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
       if (options.coupled_steps && rel < 1e-2) coupled = true;
       iterations = it;
       double change = 0;
-      if (options.progress) options.progress(makeReport(it, st, start, "stac"));
+      if (options.progress) options.progress(makeReport(it, st, start, "stac", &theta));
       if (options.adapt_variance) {
         change = adaptNoise(st, seed_noise, kappa, &noise);
         st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, false, threads, &ws);

@@ -95,6 +95,10 @@ TEST_F(CalibCli, UsageErrors) {
   EXPECT_NE(r.err.find("stac|joint"), std::string::npos);
   r = calib("--log " + file("data.csv") + " --threads -1");
   EXPECT_EQ(r.exit_code, 2);
+  // A forgotten value is not taken from the next flag (no file "--quiet").
+  r = calib("--log " + file("data.csv") + " --output --quiet");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--output needs a value"), std::string::npos) << r.err;
   r = calib("--log " + file("missing.csv"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("missing.csv"), std::string::npos);

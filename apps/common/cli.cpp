@@ -73,7 +73,9 @@ Args parseArgs(int argc, char** argv, const std::vector<Option>& options) {
       if (inline_value) throw UsageError("--" + name + " takes no value");
       value = "1";
     } else if (!inline_value) {
-      if (i + 1 >= argc) throw UsageError("--" + name + " needs a value");
+      // "--urdf-out --quiet" is a forgotten value, not a file named --quiet.
+      if (i + 1 >= argc || std::string(argv[i + 1]).rfind("--", 0) == 0)
+        throw UsageError("--" + name + " needs a value (" + opt->value_name + ")");
       value = argv[++i];
     }
     if (args.values_.count(name))

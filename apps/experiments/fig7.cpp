@@ -37,7 +37,7 @@ std::string gridSvg(const std::string& title, const std::vector<double>& rows,
                     const std::vector<double>& cols, const std::vector<std::vector<double>>& v,
                     double vmax, const std::string& value_format) {
   const int cell = 46, left = 90, top = 40;
-  const int w = left + cell * static_cast<int>(cols.size()) + 20;
+  const int w = std::max(left + cell * static_cast<int>(cols.size()) + 20, 420);
   const int h = top + cell * static_cast<int>(rows.size()) + 40;
   std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(w) +
                   "\" height=\"" + std::to_string(h) + "\" font-family=\"sans-serif\" font-size=\"11\">";

@@ -60,7 +60,9 @@ std::string barsSvg(const std::string& title, const std::vector<Row>& rows) {
   for (const Row& r : rows)
     for (int g = 0; g < kNumSensorGroups; ++g) {
       const double v = r.row.result.group[g].mae;
-      if (r.row.result.group[g].predicted && std::isfinite(v) && v > 0) {
+      // Exact fits (a group predicting itself alone: ~1e-17) would stretch
+      // the axis over 15 decades; they are drawn at the floor.
+      if (r.row.result.group[g].predicted && std::isfinite(v) && v > 1e-5) {
         lo = std::min(lo, v);
         hi = std::max(hi, v);
       }
@@ -86,8 +88,8 @@ std::string barsSvg(const std::string& title, const std::vector<Row>& rows) {
     const int x0 = left + static_cast<int>(i) * (3 * bar + gap) + gap / 2;
     for (int g = 0; g < kNumSensorGroups; ++g) {
       const GroupPredictionError& ge = rows[i].row.result.group[g];
-      if (!ge.predicted || !std::isfinite(ge.mae) || ge.mae <= 0) continue;
-      const double yy = y(ge.mae);
+      if (!ge.predicted || !std::isfinite(ge.mae)) continue;
+      const double yy = y(std::max(ge.mae, std::pow(10.0, l0)));
       s += "<rect class=\"bar\" x=\"" + std::to_string(x0 + g * bar) + "\" y=\"" + fmt(yy, "%.1f") +
            "\" width=\"" + std::to_string(bar - 1) + "\" height=\"" + fmt(top + plot_h - yy, "%.1f") +
            "\" fill=\"" + colors[g] + "\" fill-opacity=\"" + (ge.used ? "0.35" : "1") + "\"/>";

@@ -30,6 +30,9 @@ struct IterationReport {
   double rms[kNumSensorGroups] = {0, 0, 0};  // raw units (metres, volts...)
   bool present[kNumSensorGroups] = {false, false, false};
   double elapsed = 0.0;                      // seconds since the start
+  // The current θ (STAC and joint stages), valid during the callback only:
+  // lets experiments trace the parameter error per iteration.
+  const SensorParameters* theta = nullptr;
   std::string stage;  // "init", "stac", "joint", "ekf" (per ~10% of frames), "classical"
 };
 
