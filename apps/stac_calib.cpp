@@ -79,12 +79,15 @@ void printSummary(const RobotModel& robot, const SensorSet& sensors, const Senso
   const CalibrationSummary& s = r.summary;
   std::ostringstream o;
   char buf[256];
-  o << "STAC calibration of " << (robot.name().empty() ? "robot" : robot.name()) << ": "
+  o << "Calibration of " << (robot.name().empty() ? "robot" : robot.name()) << ": "
     << s.frames << " frames, " << robot.dof() << " joints, " << sensors.markers.size()
     << " markers, " << sensors.joint_sensors.size() << " joint sensors, "
     << sensors.tendon_sensors.size() << " tendon sensors\n";
-  std::snprintf(buf, sizeof buf, "method %s%s%s, %d iterations, %s, %.2f s\n", s.method.c_str(),
-                s.q_phase.empty() ? "" : " / q-phase ", s.q_phase.c_str(), s.iterations,
+  const std::string steps = s.method == "ekf" ? "one forward pass over the frames"
+                            : std::to_string(s.iterations) +
+                                  (s.iterations == 1 ? " iteration" : " iterations");
+  std::snprintf(buf, sizeof buf, "method %s%s%s, %s, %s, %.2f s\n", s.method.c_str(),
+                s.q_phase.empty() ? "" : " / q-phase ", s.q_phase.c_str(), steps.c_str(),
                 s.converged ? "converged" : "NOT converged (iteration limit)", s.wall_time);
   o << buf;
   o << "\nresidual RMS per group      before        after        sigma\n";
