@@ -282,6 +282,23 @@ void residualStatistics(const MeasurementModel& model, const SensorParameters& t
   for (int k = 0; k < N; ++k) result->tendon_residual.push_back(stats(M + J + k));
 }
 
+void summariseGroupNoise(const SensorSet& sensors, const NoiseModel& noise,
+                         CalibrationSummary* summary, const std::vector<bool>* skip_joint) {
+  auto rms = [](const std::vector<double>& v, const std::vector<bool>* skip) {
+    double s = 0;
+    int n = 0;
+    for (size_t i = 0; i < v.size(); ++i)
+      if (!skip || !(*skip)[i]) s += v[i] * v[i], ++n;
+    return n == 0 ? 0.0 : std::sqrt(s / n);
+  };
+  summary->group_present[0] = !sensors.markers.empty();
+  summary->group_present[1] = !sensors.joint_sensors.empty();
+  summary->group_present[2] = !sensors.tendon_sensors.empty();
+  summary->group_sigma[0] = rms(noise.marker, nullptr);
+  summary->group_sigma[1] = rms(noise.joint, skip_joint);
+  summary->group_sigma[2] = rms(noise.tendon, nullptr);
+}
+
 void fittedResidualRms(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
                        const RowMatrix& q_start, int threads, double rms[kNumSensorGroups]) {
@@ -457,17 +474,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   summary.unidentifiable = unc.unidentifiable;
   summary.downweighted = downweighted(model, theta, noise, loss, obs, state.q,
                                       options.max_downweighted, threads, &ws);
-  auto rms_sigma = [](const std::vector<double>& v) {
-    double s = 0;
-    for (double x : v) s += x * x;
-    return v.empty() ? 0.0 : std::sqrt(s / v.size());
-  };
-  summary.group_present[0] = !sensors.markers.empty();
-  summary.group_present[1] = !sensors.joint_sensors.empty();
-  summary.group_present[2] = !sensors.tendon_sensors.empty();
-  summary.group_sigma[0] = rms_sigma(noise.marker);
-  summary.group_sigma[1] = rms_sigma(noise.joint);
-  summary.group_sigma[2] = rms_sigma(noise.tendon);
+  summariseGroupNoise(sensors, noise, &summary);
   summary.wall_time = std::chrono::duration<double>(Clock::now() - start).count();
   if (joint_angles) *joint_angles = state.q;
   return result;

@@ -443,21 +443,9 @@ CalibrationResult calibrateClassical(const RobotModel& robot, const SensorSet& s
   for (int g = 0; g < kNumSensorGroups; ++g)
     summary.after_rms[g] = fin.count[g] > 0 ? std::sqrt(fin.sse[g] / fin.count[g]) : 0.0;
   summary.unidentifiable = unc.unidentifiable;
-  auto rms_sigma = [](const std::vector<double>& v, const std::vector<bool>* skip) {
-    double s = 0;
-    int n = 0;
-    for (size_t i = 0; i < v.size(); ++i)
-      if (!skip || !(*skip)[i]) s += v[i] * v[i], ++n;
-    return n == 0 ? 0.0 : std::sqrt(s / n);
-  };
-  summary.group_present[0] = !sensors.markers.empty();
-  summary.group_present[1] = J > 0;
-  summary.group_present[2] = !sensors.tendon_sensors.empty();
-  summary.group_sigma[0] = rms_sigma(noise.marker, nullptr);
   // Defining joint sensors have σ_p -> 0 by construction (their seed σ is
   // kept in the sensors so the file feeds back); report the others'.
-  summary.group_sigma[1] = rms_sigma(noise.joint, &sources.defining);
-  summary.group_sigma[2] = rms_sigma(noise.tendon, nullptr);
+  summariseGroupNoise(sensors, noise, &summary, &sources.defining);
   summary.wall_time = std::chrono::duration<double>(Clock::now() - start).count();
   if (joint_angles) *joint_angles = q;
   return result;

@@ -345,17 +345,7 @@ CalibrationResult calibrateEkf(const RobotModel& robot, const SensorSet& sensors
   summary.after_rms[1] = group_rms(result.joint_residual);
   summary.after_rms[2] = group_rms(result.tendon_residual);
   summary.unidentifiable = unc.unidentifiable;
-  auto rms_sigma = [](const std::vector<double>& v) {
-    double s = 0;
-    for (double x : v) s += x * x;
-    return v.empty() ? 0.0 : std::sqrt(s / v.size());
-  };
-  summary.group_present[0] = !sensors.markers.empty();
-  summary.group_present[1] = !sensors.joint_sensors.empty();
-  summary.group_present[2] = !sensors.tendon_sensors.empty();
-  summary.group_sigma[0] = rms_sigma(noise.marker);
-  summary.group_sigma[1] = rms_sigma(noise.joint);
-  summary.group_sigma[2] = rms_sigma(noise.tendon);
+  summariseGroupNoise(sensors, noise, &summary);
   summary.wall_time = std::chrono::duration<double>(Clock::now() - start).count();
   if (joint_angles) *joint_angles = filtered;
   return result;

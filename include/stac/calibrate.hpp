@@ -71,6 +71,13 @@ void fittedResidualRms(const MeasurementModel& model, const SensorParameters& th
                        const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
                        const RowMatrix& q_start, int threads, double rms[kNumSensorGroups]);
 
+// The summary's per-group σ (RMS over the group's sensors; in the joint
+// group, over those with !(*skip_joint)[i] when skip_joint is given, 0 if
+// none) and which groups the sensors have.
+void summariseGroupNoise(const SensorSet& sensors, const NoiseModel& noise,
+                         CalibrationSummary* summary,
+                         const std::vector<bool>* skip_joint = nullptr);
+
 // Per-sensor residual statistics in raw units at the given q and θ.
 void residualStatistics(const MeasurementModel& model, const SensorParameters& theta,
                         const Observations& obs, const RowMatrix& q, int threads,
