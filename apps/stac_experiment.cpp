@@ -3,7 +3,8 @@
 // Markdown summary on stdout.
 #include <chrono>
 #include <iostream>
-#include <regex>
+#include <algorithm>
+#include <cstdlib>
 #include <sys/stat.h>
 
 #include "common/cli.hpp"
@@ -17,18 +18,25 @@ namespace stac::experiments {
 
 void progressLine(const Context&, const std::string& text) { std::cerr << text << std::endl; }
 
+namespace {
+
+// The numeric value of attribute `name` in the first tag of `svg`, or
+// `fallback`.
+double rootAttribute(const std::string& svg, const std::string& name, double fallback) {
+  const size_t end = svg.find('>');
+  const size_t at = svg.find(" " + name + "=\"");
+  if (at == std::string::npos || at > end) return fallback;
+  return std::atof(svg.c_str() + at + name.size() + 3);
+}
+
+}  // namespace
+
 std::string stackSvg(const std::vector<std::string>& parts) {
   // Each part's own width/height attributes place it below the previous one.
-  const std::regex size("<svg[^>]*?width=\"([0-9.]+)\"[^>]*?height=\"([0-9.]+)\"");
   double y = 0, width = 0;
   std::string body;
   for (const std::string& p : parts) {
-    std::smatch m;
-    double w = 600, h = 320;
-    if (std::regex_search(p, m, size)) {
-      w = std::stod(m[1]);
-      h = std::stod(m[2]);
-    }
+    const double w = rootAttribute(p, "width", 600), h = rootAttribute(p, "height", 320);
     body += "<g transform=\"translate(0," + std::to_string(static_cast<int>(y)) + ")\">" + p + "</g>\n";
     y += h + 10;
     width = std::max(width, w);
