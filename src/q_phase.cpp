@@ -26,6 +26,15 @@ void accumulateNormalEquations(const FrameWorkspace& ws, Eigen::MatrixXd* H,
   H->triangularView<Eigen::StrictlyUpper>() = H->transpose();
 }
 
+void widenedLimits(const RobotModel& robot, Eigen::VectorXd* lower, Eigen::VectorXd* upper) {
+  *lower = robot.lowerLimits();
+  *upper = robot.upperLimits();
+  for (int i = 0; i < robot.dof(); ++i) {
+    const double margin = 0.05 * ((*upper)[i] - (*lower)[i]);
+    if (std::isfinite(margin)) (*lower)[i] -= margin, (*upper)[i] += margin;
+  }
+}
+
 namespace {
 
 struct FrameSolver {
@@ -49,15 +58,7 @@ struct FrameSolver {
     with_jac.theta_jacobians = false;
     no_jac.jacobians = false;
     no_jac.theta_jacobians = false;
-    // Joint angles stay within the URDF limits widened by 5% of the range:
-    // outside them lie mirror solutions of the marker geometry.
-    const RobotModel& r = m.robot();
-    lower = r.lowerLimits();
-    upper = r.upperLimits();
-    for (int i = 0; i < m.dof(); ++i) {
-      const double margin = 0.05 * (upper[i] - lower[i]);
-      if (std::isfinite(margin)) lower[i] -= margin, upper[i] += margin;
-    }
+    widenedLimits(m.robot(), &lower, &upper);
   }
 
   void project(Eigen::VectorXd* q) const { *q = q->cwiseMax(lower).cwiseMin(upper); }

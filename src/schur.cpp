@@ -155,6 +155,8 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
   const int nf = static_cast<int>(free_index.size());
   std::vector<int> free_of(model.thetaSize(), -1);
   for (int i = 0; i < nf; ++i) free_of[free_index[i]] = i;
+  Eigen::VectorXd lower, upper;
+  widenedLimits(model.robot(), &lower, &upper);
   double old_cost = -1;
   for (int attempt = 0; attempt < 6; ++attempt) {
     ReducedSystem rs = reduceOntoTheta(model, *theta, noise, loss, obs, state->q, *lambda,
@@ -166,7 +168,8 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     const Eigen::VectorXd dtheta = nf > 0 ? Eigen::VectorXd(A.ldlt().solve(-rs.g))
                                           : Eigen::VectorXd();
     if (!dtheta.allFinite()) return old_cost;
-    // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ).
+    // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ),
+    // kept inside the q-phase's box (q_phase.hpp: widenedLimits).
     RowMatrix q_new = state->q;
     parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
       FrameSystem fs{Eigen::MatrixXd(dof, dof), Eigen::MatrixXd(dof, nf), Eigen::VectorXd(dof)};
@@ -181,7 +184,8 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
         const Eigen::VectorXd rhs = fs.gq + (nf > 0 ? Eigen::VectorXd(fs.Hqt * dtheta)
                                                     : Eigen::VectorXd::Zero(dof));
         const Eigen::VectorXd dq = fs.Hqq.llt().solve(-rhs);
-        if (dq.allFinite()) q_new.row(t) += dq.transpose();
+        if (dq.allFinite())
+          q_new.row(t) = (qt + dq).cwiseMax(lower).cwiseMin(upper).transpose();
       }
     });
     const SensorParameters theta_new = applyThetaStep(model, *theta, free_index, dtheta);

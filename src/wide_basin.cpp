@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 #include "stac/calibrate.hpp"
+#include "stac/kinematics.hpp"
 #include "stac/schur.hpp"
 #include "stac/theta_phase.hpp"
 
@@ -76,6 +77,114 @@ void applyPotGuesses(const std::vector<PotGuess>& guesses, const Observations& o
   }
 }
 
+// Mirrors joint angle column `g.column` about its mean and flips the sign
+// of its pot's map so that every prediction stays the same:
+// p = g q + b = (-g) (2c - q) + (b + 2 g c).
+void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+  const double c = q->col(g.column).mean();
+  q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
+  GainBias& gb = theta->joint_sensor[g.sensor];
+  gb.bias += 2.0 * gb.gain * c;
+  gb.gain = -gb.gain;
+}
+
+// Whether some marker or pot fits clearly worse than its noise: its median
+// residual over the frames more than twice what Gaussian noise of its σ
+// gives (a marker's Euclidean distance: 1.54 σ; a pot: 0.67 σ). Medians, so
+// that gross outliers do not count: a sign chosen wrong shows in every
+// frame.
+bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
+                       const NoiseModel& noise, const Observations& obs, const RowMatrix& q) {
+  const SensorSet& sensors = model.sensors();
+  const int M = static_cast<int>(sensors.markers.size());
+  const int J = static_cast<int>(sensors.joint_sensors.size());
+  const int N = static_cast<int>(sensors.tendon_sensors.size());
+  std::vector<std::vector<double>> marker(M), joint(J);
+  KinematicsWorkspace kin(model.robot());
+  std::vector<double> pm(3 * M), pj(J), pt(N);
+  for (int t = 0; t < obs.num_frames; ++t) {
+    predictFrame(model, theta, q.row(t).transpose(), &kin, pm.data(), pj.data(), pt.data());
+    for (int m = 0; m < M; ++m) {
+      const Eigen::Vector3d x(obs.marker(t, 3 * m), obs.marker(t, 3 * m + 1), obs.marker(t, 3 * m + 2));
+      if (x.allFinite())
+        marker[m].push_back((x - Eigen::Vector3d(pm[3 * m], pm[3 * m + 1], pm[3 * m + 2])).norm());
+    }
+    for (int j = 0; j < J; ++j)
+      if (!std::isnan(obs.joint(t, j))) joint[j].push_back(std::abs(obs.joint(t, j) - pj[j]));
+  }
+  auto median = [](std::vector<double>* v) {
+    std::nth_element(v->begin(), v->begin() + v->size() / 2, v->end());
+    return (*v)[v->size() / 2];
+  };
+  for (int m = 0; m < M; ++m)
+    if (!marker[m].empty() && median(&marker[m]) > 2.0 * 1.54 * noise.marker[m]) return true;
+  for (int j = 0; j < J; ++j)
+    if (!joint[j].empty() && median(&joint[j]) > 2.0 * 0.674 * noise.joint[j]) return true;
+  return false;
+}
+
+// After the initial alternation: if a marker or pot still fits far worse
+// than its noise, the likeliest cause is a pot whose sign the marker-only
+// scoring above got wrong (a joint that moves its markers little, e.g. a
+// wrist with markers close to its axes). Each sign change of `moves`, tried
+// on 150 frames from the current estimate and refined by a few alternations,
+// is kept if it lowers the cost clearly. Returns whether any was kept.
+bool verifySigns(const MeasurementModel& model, const Observations& obs, const NoiseModel& noise,
+                 const RobustLoss& loss, int threads, std::vector<FrameWorkspace>* ws,
+                 const std::vector<PotGuess>& guesses,
+                 const std::vector<std::vector<int>>& moves, SensorParameters* theta,
+                 QState* state) {
+  const std::vector<int> sub = spreadFrames(obs.num_frames, 150);
+  const Observations so = selectFrames(obs, sub);
+  QState ss;
+  ss.q = RowMatrix(so.num_frames, model.dof());
+  for (int i = 0; i < so.num_frames; ++i) ss.q.row(i) = state->q.row(sub[i]);
+  if (!someSensorMisfits(model, *theta, noise, so, ss.q)) return false;
+
+  // A candidate's worth: the cost after a few alternations on the subsample.
+  QPhaseOptions qo;
+  qo.method = QPhaseMethod::kLmIter;
+  qo.threads = threads;
+  ThetaPhaseOptions to;
+  to.threads = threads;
+  auto refined = [&](SensorParameters th, QState st) {
+    double c = 0;
+    for (int it = 0; it < 2; ++it) {
+      c = qPhase(model, th, noise, loss, so, qo, ws, &st);
+      thetaPhase(model, noise, loss, so, st, to, ws, &th);
+    }
+    // Coupled steps converge in a few iterations where the alternation crawls.
+    double lambda = 1e-3;
+    for (int it = 0; it < 5; ++it)
+      c = coupledStep(model, noise, loss, so, threads, ws, &lambda, &th, &st, qo.eval);
+    return c;
+  };
+  bool flipped = false;
+  double base = refined(*theta, ss);
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    bool changed = false;
+    for (const std::vector<int>& move : moves) {
+      if (std::any_of(move.begin(), move.end(), [&](int i) {
+            return model.sensors().joint_sensors[guesses[i].sensor].fixed;
+          }))
+        continue;
+      SensorParameters th = *theta;
+      QState st = ss;
+      for (int i : move) flipSign(guesses[i], &th, &st.q);
+      const double c = refined(th, st);
+      if (c < 0.8 * base) {
+        // Clearly better: keep it, on every frame.
+        for (int i : move) flipSign(guesses[i], theta, &state->q);
+        for (int i = 0; i < so.num_frames; ++i) ss.q.row(i) = state->q.row(sub[i]);
+        base = refined(*theta, ss);
+        changed = flipped = true;
+      }
+    }
+    if (!changed) break;
+  }
+  return flipped;
+}
+
 }  // namespace
 
 std::vector<int> spreadFrames(int frames, int count) {
@@ -113,6 +222,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
                       std::any_of(sensors.markers.begin(), sensors.markers.end(),
                                   [](const MarkerConfig& m) { return !m.fixed; }));
   std::vector<PotGuess> guesses = makePotGuesses(robot, sensors, theta, obs);
+  std::vector<std::vector<int>> moves;  // sign changes tried: guess indices
   {
     QPhaseOptions qo;
     qo.method = QPhaseMethod::kLmIter;
@@ -182,18 +292,46 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
         }
         if (best_pattern >= 0) flip(patterns[best_pattern]);
       }
-      for (int sweep = 0; sweep < 2; ++sweep) {
+      // Greedy sign sweeps: each guess alone, then each guess together with
+      // the nearest guessed joint above it in the tree. Two wrong signs in a
+      // row (e.g. a wrist's pitch and roll) can each look right alone, since
+      // flipping either one by itself moves the markers farther.
+      {
+        std::vector<int> guess_of_q(robot.dof(), -1);
+        for (size_t i = 0; i < guesses.size(); ++i) guess_of_q[guesses[i].column] = static_cast<int>(i);
+        for (size_t i = 0; i < guesses.size(); ++i) moves.push_back({static_cast<int>(i)});
+        for (size_t i = 0; i < guesses.size(); ++i) {
+          const int movable = robot.qJoints()[guesses[i].column];
+          const std::vector<int>& chain =
+              robot.supportingJoints(robot.movableJoints()[movable].child_link);
+          for (int k = static_cast<int>(chain.size()) - 2; k >= 0; --k) {
+            const MovableJoint& above = robot.movableJoints()[chain[k]];
+            if (above.is_mimic || guess_of_q[above.q_index] < 0) continue;
+            moves.push_back({guess_of_q[above.q_index], static_cast<int>(i)});
+            break;
+          }
+        }
+      }
+      auto flipMove = [&](const std::vector<int>& move) {
+        for (int i : move) guesses[i].alpha = -guesses[i].alpha;
+      };
+      for (int sweep = 0; sweep < 3; ++sweep) {
         bool changed = false;
-        for (PotGuess& g : guesses) {
-          if (sensors.joint_sensors[g.sensor].fixed) continue;
-          g.alpha = -g.alpha;
+        for (const std::vector<int>& move : moves) {
+          if (std::any_of(move.begin(), move.end(), [&](int i) {
+                return sensors.joint_sensors[guesses[i].sensor].fixed;
+              }))
+            continue;
+          flipMove(move);
           SensorParameters trial = theta;
           const double c = markerCost(&trial);
-          if (c < best) {
+          // Two signs at once only for a clear gain: with outliers in the
+          // data a double mirror can score marginally better by chance.
+          if (c < (move.size() > 1 ? 0.95 : 1.0) * best) {
             best = c;
             changed = true;
           } else {
-            g.alpha = -g.alpha;
+            flipMove(move);
           }
         }
         if (!changed) break;
@@ -210,7 +348,9 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
     }
     if (marker_group_free)
       initialiseMarkerGroup(model, obs, *state, 3, threads, ws_ptr, &theta);
-    double prev = -1, init_lambda = 1e-3;
+    double init_lambda = 1e-3;
+    auto alternate = [&]() {
+    double prev = -1;
     for (int it = 0; it < 30; ++it) {
       double c = 0;
       if (it < 2 && guesses.empty()) {
@@ -233,6 +373,11 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       if (prev > 0 && std::abs(prev - c) <= 1e-4 * prev) break;
       prev = c;
     }
+    };
+    alternate();
+    if (marker_group_free && !moves.empty() &&
+        verifySigns(model, obs, noise, loss, threads, ws_ptr, guesses, moves, &theta, state))
+      alternate();
     ThetaPhaseOptions pots;
     pots.threads = threads;
     pots.update[0] = false;

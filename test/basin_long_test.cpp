@@ -2,8 +2,9 @@
 // mocap rotation, gains of both signs, biases up to ±1 rad-equivalent,
 // markers a few centimetres from their link origins — STAC started from the
 // paper's seeding (gains 1, biases 0, markers at the link origin, mocap frame
-// identity) must converge to the truth. Label "long": outside the default
-// run; prints the success rate per robot.
+// identity) must converge to the truth: the bundled robots and the real
+// public ones of STAC_ROBOTS_DIR with at most 12 joints. Label "long":
+// outside the default run; prints the success rate per robot.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
 #include "support/arm_files.hpp"
+#include "support/external_sensors.hpp"
 #include "support/test_util.hpp"
 
 namespace stac {
@@ -116,6 +118,16 @@ std::vector<Robot> robots() {
     SensorsFile tr = loadSensorsFile(test::dataPath(std::string(name) + "_truth.yaml"), m);
     seed.theta = tr.theta;
     out.push_back({name, std::move(m), std::move(seed), 500});
+  }
+  // Real public robots (STAC_ROBOTS_DIR) with the sensors a user would log
+  // without a sensors file, the gauges removed by CAD-known markers.
+  for (const std::string& urdf : test::externalUrdfs()) {
+    RobotModel m = RobotModel::fromFile(urdf);
+    if (m.dof() > 12) continue;
+    std::mt19937_64 rng(7);
+    SensorsFile t = parseSensorsYaml(test::inferableTruthYaml(m, true, rng), urdf + " sensors", m);
+    const std::string name = m.name();
+    out.push_back({name, std::move(m), std::move(t), 600});
   }
   return out;
 }

@@ -26,6 +26,12 @@ struct QPhaseOptions {
 };
 
 // Per-frame solver state carried across outer iterations (warm start).
+// The box every estimated q_t is kept in: the URDF limits widened by 5% of
+// each joint's range (±inf where a joint has none). Outside it lie mirror
+// solutions of the marker geometry (a joint turned half a turn with its
+// link's markers turned back), which fit the readings as well.
+void widenedLimits(const RobotModel& robot, Eigen::VectorXd* lower, Eigen::VectorXd* upper);
+
 struct QState {
   RowMatrix q;               // frames x dof
   Eigen::VectorXd lambda;    // LM damping per frame
