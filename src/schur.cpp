@@ -147,7 +147,8 @@ SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParam
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
-                   SensorParameters* theta, QState* state, const EvalOptions& groups) {
+                   SensorParameters* theta, QState* state, const EvalOptions& groups,
+                   bool within_limits) {
   const int dof = model.dof();
   const int T = obs.num_frames;
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
@@ -168,8 +169,7 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     const Eigen::VectorXd dtheta = nf > 0 ? Eigen::VectorXd(A.ldlt().solve(-rs.g))
                                           : Eigen::VectorXd();
     if (!dtheta.allFinite()) return old_cost;
-    // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ),
-    // kept inside the q-phase's box (q_phase.hpp: widenedLimits).
+    // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ).
     RowMatrix q_new = state->q;
     parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
       FrameSystem fs{Eigen::MatrixXd(dof, dof), Eigen::MatrixXd(dof, nf), Eigen::VectorXd(dof)};
@@ -185,7 +185,9 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                                                     : Eigen::VectorXd::Zero(dof));
         const Eigen::VectorXd dq = fs.Hqq.llt().solve(-rhs);
         if (dq.allFinite())
-          q_new.row(t) = (qt + dq).cwiseMax(lower).cwiseMin(upper).transpose();
+          q_new.row(t) = within_limits
+                             ? (qt + dq).cwiseMax(lower).cwiseMin(upper).transpose().eval()
+                             : (qt + dq).transpose().eval();
       }
     });
     const SensorParameters theta_new = applyThetaStep(model, *theta, free_index, dtheta);

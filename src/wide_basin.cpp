@@ -156,7 +156,7 @@ bool verifySigns(const MeasurementModel& model, const Observations& obs, const N
     // Coupled steps converge in a few iterations where the alternation crawls.
     double lambda = 1e-3;
     for (int it = 0; it < 5; ++it)
-      c = coupledStep(model, noise, loss, so, threads, ws, &lambda, &th, &st, qo.eval);
+      c = coupledStep(model, noise, loss, so, threads, ws, &lambda, &th, &st, qo.eval, true);
     return c;
   };
   bool flipped = false;
@@ -369,7 +369,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       // Coupled steps once the alternation stalls (they cost more).
       if (coupled_steps && prev > 0 && prev - c < 1e-2 * prev)
         c = coupledStep(model, noise, loss, obs, threads, ws_ptr, &init_lambda, &theta, state,
-                        qo.eval);
+                        qo.eval, true);
       if (prev > 0 && std::abs(prev - c) <= 1e-4 * prev) break;
       prev = c;
     }

@@ -39,11 +39,15 @@ SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParam
 
 // One coupled LM step on (q, θ): tries damping *lambda (adapting it) until
 // the total cost decreases; returns the new cost, or the old one (state
-// unchanged) if no damping helped.
+// unchanged) if no damping helped. within_limits projects every q_t onto
+// the q-phase's box (q_phase.hpp widenedLimits): the initialisation uses it
+// so that a joint cannot walk to its half-turn mirror (a joint turned by π
+// with its links' markers turned back fits as well); the main loop does not,
+// since a projected step stalls when a bad start leaves frames at the bounds.
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
                    SensorParameters* theta, QState* state,
-                   const EvalOptions& groups = EvalOptions());
+                   const EvalOptions& groups = EvalOptions(), bool within_limits = false);
 
 }  // namespace stac
