@@ -16,10 +16,18 @@
 namespace stac {
 namespace {
 
+// Global scales of the guessed maps below: the log covers 80%, 40%, 20% or
+// 10% of the joints' ranges.
+constexpr double kCoverageScales[] = {1.0, 0.5, 0.25, 0.125};
+// The pots' weight in the first marker-led alternation (σ x 10): their
+// guessed maps' scales are rough, so the markers lead q and the pots'
+// θ-phase fits gains to marker-driven angles rather than to themselves.
+constexpr double kInitPotWeight = 0.01;
+
 // The joint angle a one-joint sensor implies if the log spans 80% of the
 // joint's range: q = alpha (p - mean p) + mid. Such a guess has the right
-// time course and roughly the right scale; only alpha's sign is unknown,
-// and a greedy sweep picks each sign by how well the markers then fit.
+// time course; alpha's sign and scale are unknown, and greedy sweeps pick
+// each by how well the markers then fit.
 struct PotGuess {
   int sensor = -1;   // joint sensor index
   int column = -1;   // q index
@@ -282,15 +290,41 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
             if (pattern[i] && !sensors.joint_sensors[guesses[i].sensor].fixed)
               guesses[i].alpha = -guesses[i].alpha;
         };
+        // The 80%-coverage scale is a guess too: a log that moves each
+        // joint through a fifth of a ±2π range (a UR arm's) needs a map 4x
+        // narrower. Each pattern is scored at a few common scales.
+        auto scale = [&](double s) {
+          for (PotGuess& g : guesses)
+            if (!sensors.joint_sensors[g.sensor].fixed) g.alpha *= s;
+        };
         int best_pattern = -1;
-        for (int k = 0; k < static_cast<int>(patterns.size()); ++k) {
-          flip(patterns[k]);
-          th = theta;
-          const double c = markerCost(&th);
-          flip(patterns[k]);
-          if (c < best) best = c, best_pattern = k;
+        double best_scale = 1.0;
+        for (double s : kCoverageScales) {
+          scale(s);
+          for (int k = -1; k < static_cast<int>(patterns.size()); ++k) {
+            if (k >= 0) flip(patterns[k]);
+            th = theta;
+            const double c = markerCost(&th);
+            if (k >= 0) flip(patterns[k]);
+            if (c < best) best = c, best_pattern = k, best_scale = s;
+          }
+          scale(1.0 / s);
         }
+        scale(best_scale);
         if (best_pattern >= 0) flip(patterns[best_pattern]);
+        // The seed's own maps inverted are a candidate too: a user's rough
+        // calibration (or a previous one) must not lose to the guesses.
+        std::vector<PotGuess> seeded = guesses;
+        for (PotGuess& g : seeded) {
+          const GainBias& gb = theta.joint_sensor[g.sensor];
+          if (gb.gain == 0 || !std::isfinite(gb.gain)) continue;
+          g.alpha = 1.0 / gb.gain;
+          g.mid = (g.mean - gb.bias) / gb.gain;
+        }
+        std::swap(guesses, seeded);
+        th = theta;
+        const double c = markerCost(&th);
+        if (c < best) best = c; else std::swap(guesses, seeded);
       }
       // Greedy sign sweeps: each guess alone, then each guess together with
       // the nearest guessed joint above it in the tree. Two wrong signs in a
@@ -315,6 +349,29 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       auto flipMove = [&](const std::vector<int>& move) {
         for (int i : move) guesses[i].alpha = -guesses[i].alpha;
       };
+      // Each guess's own scale: halved or doubled while the markers fit
+      // clearly better (joints of one log rarely cover their ranges alike).
+      auto rescaleSweep = [&]() {
+        bool changed = false;
+        for (PotGuess& g : guesses) {
+          if (sensors.joint_sensors[g.sensor].fixed) continue;
+          for (double s : {0.5, 2.0}) {
+            for (int step = 0; step < 3; ++step) {
+              g.alpha *= s;
+              SensorParameters trial = theta;
+              const double c = markerCost(&trial);
+              if (c < 0.98 * best) {
+                best = c;
+                changed = true;
+              } else {
+                g.alpha /= s;
+                break;
+              }
+            }
+          }
+        }
+        return changed;
+      };
       for (int sweep = 0; sweep < 3; ++sweep) {
         bool changed = false;
         for (const std::vector<int>& move : moves) {
@@ -334,6 +391,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
             flipMove(move);
           }
         }
+        if (rescaleSweep()) changed = true;
         if (!changed) break;
       }
       applyPotGuesses(guesses, obs, &state->q);
@@ -374,6 +432,11 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       prev = c;
     }
     };
+    if (!guesses.empty() && marker_group_free) {
+      qo.eval.group_weight[1] = kInitPotWeight;
+      alternate();
+      qo.eval.group_weight[1] = 1.0;
+    }
     alternate();
     if (marker_group_free && !moves.empty() &&
         verifySigns(model, obs, noise, loss, threads, ws_ptr, guesses, moves, &theta, state))
