@@ -372,7 +372,9 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
         }
         return changed;
       };
-      for (int sweep = 0; sweep < 3; ++sweep) {
+      // Signs, then each guess's own scale, then signs again if a scale
+      // changed.
+      for (int sweep = 0; sweep < 4; ++sweep) {
         bool changed = false;
         for (const std::vector<int>& move : moves) {
           if (std::any_of(move.begin(), move.end(), [&](int i) {
@@ -391,8 +393,8 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
             flipMove(move);
           }
         }
-        if (rescaleSweep()) changed = true;
-        if (!changed) break;
+        if (sweep == 1 && rescaleSweep()) changed = true;
+        if (!changed && sweep != 0) break;
       }
       applyPotGuesses(guesses, obs, &state->q);
       for (const PotGuess& g : guesses) {
