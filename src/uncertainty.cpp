@@ -15,6 +15,9 @@
 namespace stac {
 namespace {
 
+constexpr double kConfoundedPart = 0.01;
+constexpr double kNamedPart = 0.1;
+
 // Frames are summed in this many fixed blocks (independent of threads).
 constexpr int kBlocks = 16;
 constexpr int kBatch = 8;  // frames per rank update
@@ -175,10 +178,15 @@ UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
     Eigen::Vector3d rot = Eigen::Vector3d::Zero();
     std::string joint_axis;
     for (int i = 0; i < nf; ++i) {
-      if (std::abs(v[i]) < 0.1) continue;
+      // Any part in a null direction makes a parameter undetermined (the
+      // drift along it is arbitrary, not small): listed and given no std
+      // from 1% of the direction's largest part; named in the reason from
+      // 10%.
+      if (std::abs(v[i]) < kConfoundedPart) continue;
       confounded[i] = true;
       const std::string& name = model.thetaNames()[out.free_index[i]];
       dir.parameters.push_back(name);
+      if (std::abs(v[i]) < kNamedPart) continue;
       std::string key;
       const std::string phrase = ownerPhrase(name, &key);
       owner_weight[key] = std::max(owner_weight[key], std::abs(v[i]));
