@@ -272,6 +272,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       };
       SensorParameters th = theta;
       double best = markerCost(&th);
+      auto fixedGuess = [&](const PotGuess& g) { return sensors.joint_sensors[g.sensor].fixed; };
       // The likeliest wrong answers are mirror images of the whole motion:
       // the world turned half a turn about a base axis a flips the sign of
       // every joint whose axis is perpendicular to a. Try those patterns
@@ -287,15 +288,14 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
         }
         auto flip = [&](const std::vector<bool>& pattern) {
           for (size_t i = 0; i < guesses.size(); ++i)
-            if (pattern[i] && !sensors.joint_sensors[guesses[i].sensor].fixed)
-              guesses[i].alpha = -guesses[i].alpha;
+            if (pattern[i] && !fixedGuess(guesses[i])) guesses[i].alpha = -guesses[i].alpha;
         };
         // The 80%-coverage scale is a guess too: a log that moves each
         // joint through a fifth of a ±2π range (a UR arm's) needs a map 4x
         // narrower. Each pattern is scored at a few common scales.
         auto scale = [&](double s) {
           for (PotGuess& g : guesses)
-            if (!sensors.joint_sensors[g.sensor].fixed) g.alpha *= s;
+            if (!fixedGuess(g)) g.alpha *= s;
         };
         int best_pattern = -1;
         double best_scale = 1.0;
@@ -354,7 +354,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       auto rescaleSweep = [&]() {
         bool changed = false;
         for (PotGuess& g : guesses) {
-          if (sensors.joint_sensors[g.sensor].fixed) continue;
+          if (fixedGuess(g)) continue;
           for (double s : {0.5, 2.0}) {
             for (int step = 0; step < 3; ++step) {
               g.alpha *= s;
@@ -372,30 +372,33 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
         }
         return changed;
       };
-      // Signs, then each guess's own scale, then signs again if a scale
-      // changed.
-      for (int sweep = 0; sweep < 4; ++sweep) {
-        bool changed = false;
-        for (const std::vector<int>& move : moves) {
-          if (std::any_of(move.begin(), move.end(), [&](int i) {
-                return sensors.joint_sensors[guesses[i].sensor].fixed;
-              }))
-            continue;
-          flipMove(move);
-          SensorParameters trial = theta;
-          const double c = markerCost(&trial);
-          // Two signs at once only for a clear gain: with outliers in the
-          // data a double mirror can score marginally better by chance.
-          if (c < (move.size() > 1 ? 0.95 : 1.0) * best) {
-            best = c;
-            changed = true;
-          } else {
+      // Until no sign change helps (at most 3 sweeps).
+      auto signSweeps = [&]() {
+        for (int sweep = 0; sweep < 3; ++sweep) {
+          bool changed = false;
+          for (const std::vector<int>& move : moves) {
+            if (std::any_of(move.begin(), move.end(),
+                            [&](int i) { return fixedGuess(guesses[i]); }))
+              continue;
             flipMove(move);
+            SensorParameters trial = theta;
+            const double c = markerCost(&trial);
+            // Two signs at once only for a clear gain: with outliers in the
+            // data a double mirror can score marginally better by chance.
+            if (c < (move.size() > 1 ? 0.95 : 1.0) * best) {
+              best = c;
+              changed = true;
+            } else {
+              flipMove(move);
+            }
           }
+          if (!changed) break;
         }
-        if (sweep == 1 && rescaleSweep()) changed = true;
-        if (!changed && sweep != 0) break;
-      }
+      };
+      // Signs first (with wrong signs a narrower map always fits better),
+      // then each guess's own scale, then signs again if a scale changed.
+      signSweeps();
+      if (rescaleSweep()) signSweeps();
       applyPotGuesses(guesses, obs, &state->q);
       for (const PotGuess& g : guesses) {
         if (sensors.joint_sensors[g.sensor].fixed) continue;
