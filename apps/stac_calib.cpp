@@ -72,6 +72,8 @@ const char* kSynopsis =
     "every frame, and writes the calibration (same schema as the sensors file).";
 
 const char* kGroupUnit[kNumSensorGroups] = {"m", "raw", "raw"};
+// A group's fitted σ this many times its seed σ is worth a warning.
+constexpr double kSuspectSigmaRatio = 3.0;
 
 void printSummary(const RobotModel& robot, const SensorSet& sensors, const SensorParameters& seed,
                   const CalibrationResult& r, const MeasurementModel& model,
@@ -128,6 +130,31 @@ void printSummary(const RobotModel& robot, const SensorSet& sensors, const Senso
   }
   o << "\ncalibration written to " << output << "\n";
   std::cout << o.str();
+}
+
+// What a user must not miss even with --quiet: a solve that ran out of
+// iterations, or a sensor group whose fitted noise is far above its seed σ
+// (a wrong minimum, a σ given in the wrong unit, or readings the model does
+// not explain).
+void warnIfSuspect(const SensorSet& sensors, const CalibrationSummary& s) {
+  if (!s.converged && s.method != "ekf")
+    std::cerr << "stac_calib: warning: not converged after " << s.iterations
+              << " iterations (raise --max-iterations, or check the data)\n";
+  CalibrationSummary seed;
+  summariseGroupNoise(sensors, NoiseModel::fromSeeds(sensors), &seed);
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    if (!s.group_present[g] || !(seed.group_sigma[g] > 0)) continue;
+    const double ratio = s.group_sigma[g] / seed.group_sigma[g];
+    if (ratio <= kSuspectSigmaRatio) continue;
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "stac_calib: warning: the %s readings fit %.3g times worse than their seed "
+                  "sigma (%.3g -> %.3g %s): a wrong minimum, a sigma in the wrong unit, or "
+                  "readings the model does not explain\n",
+                  groupName(static_cast<SensorGroup>(g)), ratio, seed.group_sigma[g],
+                  s.group_sigma[g], kGroupUnit[g]);
+    std::cerr << buf;
+  }
 }
 
 int run(const cli::Args& args) {
@@ -264,6 +291,7 @@ int run(const cli::Args& args) {
   if (!report_path.empty()) writeOutput(report_path, report);
   const MeasurementModel model(robot, sf.sensors);
   printSummary(robot, sf.sensors, sf.theta, result, model, output);
+  warnIfSuspect(sf.sensors, result.summary);
   if (!urdf_out.empty()) {
     std::cout << "calibrated URDF written to " << urdf_out << ": " << urdf_patch.placed.size()
               << " marker link(s) on the calibrated markers\n";

@@ -66,6 +66,29 @@ TEST_F(CalibCli, CalibratesAndTheOutputFeedsBack) {
   EXPECT_TRUE(r.err.empty()) << r.err;
 }
 
+// Suspect results still write the calibration (exit 0) but say so on
+// stderr, --quiet or not: a marker σ seeded 20x too small, and a solve cut
+// off by --max-iterations.
+TEST_F(CalibCli, SuspectResultsAreWarnedAbout) {
+  std::string seed = test::readFile(file("seed.yaml"));
+  const size_t at = seed.find("sigma: 0.002");
+  ASSERT_NE(at, std::string::npos);
+  seed.replace(at, 12, "sigma: 0.0001");
+  test::writeFile(file("tight.yaml"), seed);
+  auto r = calib("--log " + file("data.csv") + " --sensors " + file("tight.yaml") + " --output " +
+                 file("cal.yaml") + " --quiet");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(test::readFile(file("cal.yaml")).empty());
+  EXPECT_NE(r.err.find("warning: the marker readings fit"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("not converged"), std::string::npos) << r.err;
+
+  r = calib("--log " + file("data.csv") + " --sensors " + file("seed.yaml") + " --output " +
+            file("cal1.yaml") + " --max-iterations 1 --quiet");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: not converged after 1 iterations"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("readings fit"), std::string::npos) << r.err;
+}
+
 // Every output byte but the timing is the same with 1 and 2 threads.
 TEST_F(CalibCli, ThreadCountDoesNotChangeTheOutput) {
   for (int threads : {1, 2}) {
