@@ -17,6 +17,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -74,7 +75,64 @@ struct PassStats {
   double wsse[kNumSensorGroups] = {0, 0, 0};     // Σ w s (seed-whitened)
   double wdims[kNumSensorGroups] = {0, 0, 0};    // Σ w rows
   double leverage[kNumSensorGroups] = {0, 0, 0};
+  double group_cost[kNumSensorGroups] = {0, 0, 0};  // ½ Σ ρ per group
 };
+
+// Adds each group's share of the dof the frame's q_t took, tr(J_g H⁻¹ J_gᵀ),
+// to leverage[] (H = Σ_g J_gᵀ J_g, given; overwritten). The shares sum to
+// tr(H⁻¹ H) = dof, so the markers' share is what the pots' and tendons'
+// (one row, few columns each: entries of H⁻¹ from L⁻¹, H = L Lᵀ) leave;
+// no marker's 3 x k block is touched.
+void addLeverage(const FrameWorkspace& w, Eigen::MatrixXd* H, Eigen::MatrixXd* Linv,
+                 double leverage[kNumSensorGroups]) {
+  const int n = static_cast<int>(H->rows());
+  const double eps = 1e-12 * std::max(1.0, H->diagonal().maxCoeff());
+  H->diagonal().array() += eps;
+  // In-place Cholesky, then L⁻¹ (both lower); plain loops beat Eigen's
+  // blocked kernels at these sizes.
+  Eigen::MatrixXd& L = *H;
+  for (int j = 0; j < n; ++j) {
+    double d = L(j, j);
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    if (!(d > 0)) return;  // not positive definite: leave this frame out
+    d = std::sqrt(d);
+    L(j, j) = d;
+    for (int i = j + 1; i < n; ++i) {
+      double s = L(i, j);
+      for (int k = 0; k < j; ++k) s -= L(i, k) * L(j, k);
+      L(i, j) = s / d;
+    }
+  }
+  Eigen::MatrixXd& M = *Linv;
+  for (int j = 0; j < n; ++j) {
+    M(j, j) = 1.0 / L(j, j);
+    for (int i = j + 1; i < n; ++i) {
+      double s = 0;
+      for (int k = j; k < i; ++k) s -= L(i, k) * M(k, j);
+      M(i, j) = s / L(i, i);
+    }
+  }
+  // (H⁻¹)_ab = Σ_k≥max(a,b) L⁻¹(k,a) L⁻¹(k,b).
+  auto hinv = [&](int a, int b) {
+    const int lo = std::max(a, b);
+    return M.col(a).segment(lo, n - lo).dot(M.col(b).segment(lo, n - lo));
+  };
+  double others = 0, trace = 0;
+  for (int i = 0; i < n; ++i) trace += hinv(i, i);
+  for (int i = 0; i < w.count; ++i) {
+    const ReadingJacobian& rj = w.readings[i];
+    if (rj.group == SensorGroup::kMarker) continue;
+    const std::vector<int>& cols = *rj.q_cols;
+    double lev = 0;
+    for (size_t a = 0; a < cols.size(); ++a)
+      for (size_t b = 0; b < cols.size(); ++b)
+        lev += rj.Jq(0, a) * hinv(cols[a], cols[b]) * rj.Jq(0, b);
+    leverage[static_cast<int>(rj.group)] += lev;
+    others += lev;
+  }
+  // tr(H⁻¹ (H - εI)) = n - ε tr(H⁻¹): a joint no reading sees adds 0.
+  leverage[static_cast<int>(SensorGroup::kMarker)] += n - eps * trace - others;
+}
 
 PassStats costPass(const MeasurementModel& model, const SensorParameters& theta,
                    const NoiseModel& noise, const NoiseModel& seed_noise,
@@ -89,16 +147,12 @@ PassStats costPass(const MeasurementModel& model, const SensorParameters& theta,
     FrameWorkspace& w = (*ws)[tid];
     PassStats& st = chunk_stats[chunk];
     Eigen::VectorXd qt(dof), g(dof);
-    Eigen::MatrixXd H(dof, dof), Hinv(dof, dof);
+    Eigen::MatrixXd H(dof, dof), Linv(dof, dof);
     const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
     for (int t = chunk * kFramesPerChunk; t < end; ++t) {
       qt = q.row(t).transpose();
       st.cost += evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), qt, eo, &w);
-      if (leverage) {
-        accumulateNormalEquations(w, &H, &g);
-        H.diagonal().array() += 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
-        Hinv = H.llt().solve(Eigen::MatrixXd::Identity(dof, dof));
-      }
+      int rows = 0;
       for (int i = 0; i < w.count; ++i) {
         const ReadingJacobian& rj = w.readings[i];
         const int g_idx = static_cast<int>(rj.group);
@@ -115,17 +169,12 @@ PassStats costPass(const MeasurementModel& model, const SensorParameters& theta,
         const double ratio = sigma / seed_sigma;
         st.wsse[g_idx] += rj.weight * rj.s * ratio * ratio;
         st.wdims[g_idx] += rj.weight * rj.rows;
-        if (leverage) {
-          // This reading's share of the dof the frame's q_t took:
-          // tr(J H⁻¹ Jᵀ) over its (few) columns.
-          const std::vector<int>& cols = *rj.q_cols;
-          const int k = static_cast<int>(cols.size());
-          for (int r = 0; r < rj.rows; ++r)
-            for (int a = 0; a < k; ++a)
-              for (int b = 0; b < k; ++b)
-                st.leverage[g_idx] += rj.Jq(r, a) * Hinv(cols[a], cols[b]) * rj.Jq(r, b);
-        }
+        st.group_cost[g_idx] += 0.5 * rj.rho;
+        rows += rj.rows;
       }
+      if (!leverage || rows == 0) continue;
+      accumulateNormalEquations(w, &H, &g);
+      addLeverage(w, &H, &Linv, st.leverage);
     }
   });
   PassStats total;
@@ -137,30 +186,78 @@ PassStats costPass(const MeasurementModel& model, const SensorParameters& theta,
       total.wsse[g] += s.wsse[g];
       total.wdims[g] += s.wdims[g];
       total.leverage[g] += s.leverage[g];
+      total.group_cost[g] += s.group_cost[g];
     }
   }
   return total;
 }
 
-// Re-estimates one scale per sensor group (paper §III-E); returns the
-// largest relative change.
-double adaptNoise(const PassStats& st, const NoiseModel& seed, double kappa[3],
+// One scale per sensor group on the seed σ's (paper §III-E), and the last
+// plain update of each, for the extrapolation in adaptNoise.
+struct GroupScales {
+  double kappa[kNumSensorGroups] = {1, 1, 1};
+  double last_step[kNumSensorGroups] = {0, 0, 0};
+};
+
+// Re-estimates each group's scale; returns the largest relative change.
+// The re-estimate is a fixed-point iteration (the fit, and so the residuals
+// and the dof the q_t took, follow σ) that contracts slowly, by about half
+// per iteration when pots carry most of their joints' information: when two
+// plain updates of a group shrink geometrically, jump to the limit of that
+// geometric series (Aitken's Δ²), then take a plain update again.
+double adaptNoise(const PassStats& st, const NoiseModel& seed, GroupScales* scales,
                   NoiseModel* noise) {
   double change = 0;
   for (int g = 0; g < kNumSensorGroups; ++g) {
     const double dofs = st.wdims[g] - st.leverage[g];
     if (st.count[g] == 0 || dofs <= 0.5) continue;
-    const double k2 = st.wsse[g] / dofs;
-    const double k = std::max(std::sqrt(k2), 1e-9);
-    change = std::max(change, std::abs(k - kappa[g]) / kappa[g]);
-    kappa[g] = k;
+    double& kappa = scales->kappa[g];
+    double& last = scales->last_step[g];
+    const double k = std::max(std::sqrt(st.wsse[g] / dofs), 1e-9);
+    const double step = k - kappa;
+    const double ratio = last != 0 ? step / last : 0;
+    double next = k;
+    // Only on clear trends: small steps mix in the fit's own settling.
+    if (ratio > 0 && ratio < 0.9 && std::abs(step) > 1e-3 * kappa) {
+      next = kappa + step / (1 - std::min(ratio, 0.6));
+      last = 0;
+    } else {
+      last = step;
+    }
+    next = std::max(next, 1e-9);
+    change = std::max(change, std::abs(next - kappa) / kappa);
+    kappa = next;
   }
   noise->marker = seed.marker;
   noise->joint = seed.joint;
   noise->tendon = seed.tendon;
-  for (double& s : noise->marker) s *= kappa[0];
-  for (double& s : noise->joint) s *= kappa[1];
-  for (double& s : noise->tendon) s *= kappa[2];
+  for (double& s : noise->marker) s *= scales->kappa[0];
+  for (double& s : noise->joint) s *= scales->kappa[1];
+  for (double& s : noise->tendon) s *= scales->kappa[2];
+  return change;
+}
+
+// adaptNoise, then *st scored again at the new σ. Without a robust loss
+// each group's whitened squares scale by (κ_old / κ_new)², so no pass over
+// the frames is needed.
+double adaptAndRescore(const MeasurementModel& model, const SensorParameters& theta,
+                       const NoiseModel& seed_noise, const RobustLoss& loss,
+                       const Observations& obs, const RowMatrix& q, int threads,
+                       std::vector<FrameWorkspace>* ws, GroupScales* scales, NoiseModel* noise,
+                       PassStats* st) {
+  const GroupScales before = *scales;
+  const double change = adaptNoise(*st, seed_noise, scales, noise);
+  if (loss.enabled()) {
+    *st = costPass(model, theta, *noise, seed_noise, loss, obs, q, false, threads, ws);
+    return change;
+  }
+  st->cost = 0;
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    const double r = before.kappa[g] / scales->kappa[g];
+    st->group_cost[g] *= r * r;
+    st->cost += st->group_cost[g];
+    st->leverage[g] = 0;
+  }
   return change;
 }
 
@@ -223,6 +320,83 @@ std::vector<DownweightedReading> downweighted(const MeasurementModel& model,
   });
   if (static_cast<int>(all.size()) > max_count) all.resize(max_count);
   return all;
+}
+
+struct LoopOutcome {
+  PassStats st;
+  int iterations = 0;
+  bool converged = false;
+};
+
+// The STAC alternation with per-group variance adaptation, from `st` (the
+// last pass at the current σ), until the relative cost decrease is below
+// `tolerance` and σ has settled. Once the alternation stalls (or from the
+// start with `coupled`), coupled Gauss-Newton steps (every q_t eliminated
+// per frame, schur.hpp), which converge fast where q and θ are strongly
+// coupled and the alternation would crawl. `report` sees every iteration.
+// `hold_first_sigma`: σ is adapted from the second iteration on.
+LoopOutcome stacIterations(const MeasurementModel& model, const Observations& obs,
+                           const NoiseModel& seed_noise, const RobustLoss& loss,
+                           const CalibrationOptions& options, bool coupled,
+                           bool hold_first_sigma, PassStats st,
+                           GroupScales* kappa, NoiseModel* noise,
+                           SensorParameters* theta, QState* state,
+                           std::vector<FrameWorkspace>* ws,
+                           const std::function<void(int, const PassStats&)>& report) {
+  const int threads = resolveThreads(options.threads);
+  QPhaseOptions qo;
+  qo.method = options.q_phase;
+  qo.threads = threads;
+  ThetaPhaseOptions to;
+  to.threads = threads;
+  double cost = st.cost;
+  double lambda = 1e-4;
+  LoopOutcome out;
+  for (int it = 1; it <= options.max_iterations; ++it) {
+    if (coupled) {
+      // The step's own pass over the frames at its start measures the dof
+      // the q_t take for the variance adaptation, which saves a pass with
+      // Jacobians; at the fixed point start and end coincide.
+      std::vector<std::array<double, kNumSensorGroups>> lev(kReductionBlocks, {0, 0, 0});
+      const FrameVisitor visit = [&](int block, const FrameWorkspace& w,
+                                     const Eigen::MatrixXd& Hqq) {
+        Eigen::MatrixXd H = Hqq, Linv(Hqq.rows(), Hqq.cols());
+        addLeverage(w, &H, &Linv, lev[block].data());
+      };
+      coupledStep(model, *noise, loss, obs, threads, ws, &lambda, theta, state, EvalOptions(),
+                  false, options.adapt_variance ? visit : FrameVisitor());
+      st = costPass(model, *theta, *noise, seed_noise, loss, obs, state->q, false, threads, ws);
+      for (const auto& block : lev)
+        for (int g = 0; g < kNumSensorGroups; ++g) st.leverage[g] += block[g];
+    } else {
+      qPhase(model, *theta, *noise, loss, obs, qo, ws, state);
+      thetaPhase(model, *noise, loss, obs, *state, to, ws, theta);
+      st = costPass(model, *theta, *noise, seed_noise, loss, obs, state->q,
+                    options.adapt_variance, threads, ws);
+    }
+    const double rel = (cost - st.cost) / std::max(cost, 1e-300);
+    if (options.coupled_steps && rel < 1e-2) coupled = true;
+    out.iterations = it;
+    double change = 0;
+    if (report) report(it, st);
+    // σ came from a subsample: keep it for a step from the interpolated
+    // start, whose residuals would mislead the adaptation.
+    const bool held = options.adapt_variance && hold_first_sigma && it == 1;
+    if (options.adapt_variance && !held) {
+      change = adaptAndRescore(model, *theta, seed_noise, loss, obs, state->q, threads, ws,
+                               kappa, noise, &st);
+      // The first update of a run also absorbs the change of data or start
+      // point: not a step of the geometric trend the extrapolation assumes.
+      if (it == 1) std::fill(kappa->last_step, kappa->last_step + kNumSensorGroups, 0.0);
+    }
+    cost = st.cost;
+    if (std::abs(rel) < options.tolerance && change < 1e-3 && !held) {
+      out.converged = true;
+      break;
+    }
+  }
+  out.st = st;
+  return out;
 }
 
 
@@ -342,7 +516,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   const MeasurementModel model(robot, sensors);
   const NoiseModel seed_noise = NoiseModel::fromSeeds(sensors);
   NoiseModel noise = seed_noise;
-  double kappa[kNumSensorGroups] = {1, 1, 1};
+  GroupScales kappa;
   const RobustLoss loss(options.loss, options.loss_scale);
   const int threads = resolveThreads(options.threads);
   std::vector<FrameWorkspace> ws;
@@ -368,6 +542,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   summary.initial_cost = st.cost;
 
   const bool has_markers = !sensors.markers.empty();
+  bool start_coupled = false, presolved = false;
   if (options.wide_basin_init && has_markers && !q0) {
     // Wide-basin initialisation on at most kInitFrames frames spread over
     // the log (wide_basin.cpp), then every frame's q_t from the nearest
@@ -378,21 +553,46 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
     sub_state.q = neutralPose(robot).transpose().replicate(sub_obs.num_frames, 1);
     theta = wideBasinInitialisation(model, sub_obs, noise, loss, threads, &ws, theta, &sub_state,
                                     options.coupled_steps);
+    if (options.method == Method::kStac && sub_obs.num_frames < obs.num_frames) {
+      // Converge on the subsample first (θ and σ): each iteration there
+      // costs a fraction of one on the whole log, which then needs only the
+      // last few coupled steps.
+      PassStats sub_st = costPass(model, theta, noise, seed_noise, loss, sub_obs, sub_state.q,
+                                  options.adapt_variance, threads, &ws);
+      if (options.adapt_variance) {
+        adaptAndRescore(model, theta, seed_noise, loss, sub_obs, sub_state.q, threads, &ws,
+                        &kappa, &noise, &sub_st);
+      }
+      presolved = true;
+      start_coupled = options.coupled_steps &&
+                      stacIterations(model, sub_obs, seed_noise, loss, options, false, false, sub_st,
+                                     &kappa, &noise, &theta, &sub_state, &ws, nullptr)
+                          .converged;
+    }
+    // Every other frame's q_t from its initialised neighbours (linearly in
+    // between; the nearer one where a joint jumps, e.g. a continuous joint
+    // a turn apart), then polished by a few LM steps.
     for (int t = 0, k = 0; t < obs.num_frames; ++t) {
-      while (k + 1 < static_cast<int>(sub.size()) && std::abs(sub[k + 1] - t) <= std::abs(sub[k] - t)) ++k;
-      state.q.row(t) = sub_state.q.row(k);
+      while (k + 1 < static_cast<int>(sub.size()) && sub[k + 1] <= t) ++k;
+      const bool between = t > sub[k] && k + 1 < static_cast<int>(sub.size());
+      const double f = between ? static_cast<double>(t - sub[k]) / (sub[k + 1] - sub[k]) : 0.0;
+      for (int j = 0; j < robot.dof(); ++j) {
+        const double a = sub_state.q(k, j);
+        const double b = between ? sub_state.q(k + 1, j) : a;
+        state.q(t, j) = std::abs(b - a) < 0.5 ? a + f * (b - a) : (f < 0.5 ? a : b);
+      }
     }
     QPhaseOptions qo;
     qo.method = QPhaseMethod::kLmBatch;
-    qo.max_steps = 6;
+    qo.max_steps = 3;
     qo.threads = threads;
     qPhase(model, theta, noise, loss, obs, qo, &ws, &state);
-    st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, options.adapt_variance,
-                  threads, &ws);
-    if (options.adapt_variance) {
-      adaptNoise(st, seed_noise, kappa, &noise);
-      st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, false, threads, &ws);
-    }
+    // σ was adapted on the subsample when it was solved first; else here.
+    const bool adapt = options.adapt_variance && !presolved;
+    st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, adapt, threads, &ws);
+    if (adapt)
+      adaptAndRescore(model, theta, seed_noise, loss, obs, state.q, threads, &ws, &kappa, &noise,
+                      &st);
     if (options.progress) options.progress(makeReport(0, st, start, "init", &theta));
   } else if (options.progress) {
     options.progress(makeReport(0, st, start, "seed", &theta));
@@ -411,46 +611,19 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
                     options.adapt_variance, threads, &ws);
       if (options.progress) options.progress(makeReport(round + 1, st, start, "joint", &theta));
       if (!options.adapt_variance) break;
-      const double change = adaptNoise(st, seed_noise, kappa, &noise);
-      st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, false, threads, &ws);
+      const double change = adaptAndRescore(model, theta, seed_noise, loss, obs, state.q,
+                                            threads, &ws, &kappa, &noise, &st);
       if (change < 1e-4) break;
     }
   } else {
-    QPhaseOptions qo;
-    qo.method = options.q_phase;
-    qo.threads = threads;
-    ThetaPhaseOptions to;
-    to.threads = threads;
-    double cost = st.cost;
-    double lambda = 1e-4;
-    // The alternation until it stalls; then coupled Gauss-Newton steps
-    // (every q_t eliminated per frame, schur.hpp), which converge fast where
-    // q and θ are strongly coupled and the alternation would crawl.
-    bool coupled = false;
-    for (int it = 1; it <= options.max_iterations; ++it) {
-      if (coupled) {
-        coupledStep(model, noise, loss, obs, threads, &ws, &lambda, &theta, &state);
-      } else {
-        qPhase(model, theta, noise, loss, obs, qo, &ws, &state);
-        thetaPhase(model, noise, loss, obs, state, to, &ws, &theta);
-      }
-      st = costPass(model, theta, noise, seed_noise, loss, obs, state.q,
-                    options.adapt_variance, threads, &ws);
-      const double rel = (cost - st.cost) / std::max(cost, 1e-300);
-      if (options.coupled_steps && rel < 1e-2) coupled = true;
-      iterations = it;
-      double change = 0;
-      if (options.progress) options.progress(makeReport(it, st, start, "stac", &theta));
-      if (options.adapt_variance) {
-        change = adaptNoise(st, seed_noise, kappa, &noise);
-        st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, false, threads, &ws);
-      }
-      cost = st.cost;
-      if (std::abs(rel) < options.tolerance && change < 1e-3) {
-        converged = true;
-        break;
-      }
-    }
+    const LoopOutcome out = stacIterations(
+        model, obs, seed_noise, loss, options, start_coupled, false, st, &kappa, &noise, &theta, &state,
+        &ws, [&](int it, const PassStats& s) {
+          if (options.progress) options.progress(makeReport(it, s, start, "stac", &theta));
+        });
+    st = out.st;
+    iterations = out.iterations;
+    converged = out.converged;
   }
 
   // Uncertainty at the optimum, with the final σ.
@@ -462,7 +635,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
     result.sensors.joint_sensors[j].sigma = noise.joint[j];
   for (size_t j = 0; j < sensors.tendon_sensors.size(); ++j)
     result.sensors.tendon_sensors[j].sigma = noise.tendon[j];
-  if (!sensors.markers.empty()) result.sensors.mocap_sigma = sensors.mocap_sigma * kappa[0];
+  if (!sensors.markers.empty()) result.sensors.mocap_sigma = sensors.mocap_sigma * kappa.kappa[0];
   result.theta = theta;
   result.std = toParameterStd(model, unc.std);
   residualStatistics(model, theta, obs, state.q, threads, &result);

@@ -319,4 +319,27 @@ Observations sliceFrames(const Observations& obs, int begin, int end) {
   return out;
 }
 
+std::vector<int> spreadFrames(int frames, int count) {
+  std::vector<int> out;
+  const int n = std::min(frames, count);
+  for (int i = 0; i < n; ++i) out.push_back(static_cast<int>(static_cast<long>(i) * frames / n));
+  return out;
+}
+
+Observations selectFrames(const Observations& obs, const std::vector<int>& frames) {
+  Observations out;
+  out.num_frames = static_cast<int>(frames.size());
+  out.marker.resize(out.num_frames, obs.marker.cols());
+  out.joint.resize(out.num_frames, obs.joint.cols());
+  out.tendon.resize(out.num_frames, obs.tendon.cols());
+  for (int i = 0; i < out.num_frames; ++i) {
+    out.marker.row(i) = obs.marker.row(frames[i]);
+    out.joint.row(i) = obs.joint.row(frames[i]);
+    out.tendon.row(i) = obs.tendon.row(frames[i]);
+    if (!obs.time.empty()) out.time.push_back(obs.time[frames[i]]);
+  }
+  out.time_name = obs.time_name;
+  return out;
+}
+
 }  // namespace stac

@@ -47,6 +47,7 @@ struct FrameSolver {
   Eigen::VectorXd lower, upper;
   Eigen::MatrixXd H, A;
   Eigen::VectorXd g, step, q_new;
+  std::vector<int> free_cols;  // with options.frozen: the columns not frozen
 
   FrameSolver(const MeasurementModel& m, const SensorParameters& th,
               const NoiseModel& n, const RobustLoss& l, const QPhaseOptions& o)
@@ -59,6 +60,9 @@ struct FrameSolver {
     no_jac.jacobians = false;
     no_jac.theta_jacobians = false;
     widenedLimits(m.robot(), &lower, &upper);
+    if (!o.frozen.empty())
+      for (int i = 0; i < m.dof(); ++i)
+        if (!o.frozen[i]) free_cols.push_back(i);
   }
 
   void project(Eigen::VectorXd* q) const { *q = q->cwiseMax(lower).cwiseMin(upper); }
@@ -73,18 +77,27 @@ struct FrameSolver {
   void solveDamped(double lambda) {
     const int n = static_cast<int>(g.size());
     const double eps = 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
+    if (!options.frozen.empty()) {
+      // Frozen columns: the system of the free ones only (often a few).
+      const int k = static_cast<int>(free_cols.size());
+      Eigen::MatrixXd Af(k, k);
+      Eigen::VectorXd rhs(k);
+      for (int a = 0; a < k; ++a) {
+        for (int b = 0; b < k; ++b) Af(a, b) = H(free_cols[a], free_cols[b]);
+        Af(a, a) += lambda * H(free_cols[a], free_cols[a]) + eps;
+        rhs[a] = -g[free_cols[a]];
+      }
+      Eigen::LLT<Eigen::MatrixXd> llt(Af);
+      const Eigen::VectorXd sf = llt.solve(rhs);
+      step.setZero();
+      if (llt.info() != Eigen::Success || !sf.allFinite()) return;
+      for (int a = 0; a < k; ++a) step[free_cols[a]] = sf[a];
+      return;
+    }
     A = H;
     for (int i = 0; i < n; ++i) A(i, i) += lambda * H(i, i) + eps;
-    Eigen::VectorXd rhs = -g;
-    for (int i = 0; i < static_cast<int>(options.frozen.size()); ++i) {
-      if (!options.frozen[i]) continue;
-      A.row(i).setZero();
-      A.col(i).setZero();
-      A(i, i) = 1.0;
-      rhs[i] = 0.0;
-    }
     Eigen::LLT<Eigen::MatrixXd> llt(A);
-    step = llt.solve(rhs);
+    step = llt.solve(-g);
     if (llt.info() != Eigen::Success || !step.allFinite()) step.setZero();
   }
 

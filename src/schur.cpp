@@ -8,8 +8,7 @@
 
 namespace stac {
 namespace {
-// Frames are summed in this many fixed blocks (independent of threads).
-constexpr int kBlocks = 16;
+constexpr int kBlocks = kReductionBlocks;
 constexpr int kBatch = 8;  // frames per rank update
 
 struct FrameSystem {
@@ -65,7 +64,8 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               const NoiseModel& noise, const RobustLoss& loss,
                               const Observations& obs, const RowMatrix& q, double lambda,
                               bool with_gradient, int threads,
-                              std::vector<FrameWorkspace>* ws, const EvalOptions& groups) {
+                              std::vector<FrameWorkspace>* ws, const EvalOptions& groups,
+                              const FrameVisitor& visit) {
   ReducedSystem out;
   out.free_index = freeThetaIndex(model);
   const int nf = static_cast<int>(out.free_index.size());
@@ -96,6 +96,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
       qt = q.row(t).transpose();
       frameSystem(model, theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, &S,
                   with_gradient ? &bg[block] : nullptr, &bcost[block], groups);
+      if (visit) visit(block, (*ws)[tid], fs.Hqq);
       dampQ(lambda, &fs.Hqq);
       Eigen::LLT<Eigen::MatrixXd> llt(fs.Hqq);
       X.middleRows(in_batch * dof, dof) = llt.matrixL().solve(fs.Hqt);
@@ -144,11 +145,67 @@ SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParam
   return out;
 }
 
+namespace {
+
+// g_θ - Σ_t H_θq (H_qq + λD)⁻¹ g_q over the free θ, summed in fixed blocks
+// of frames; H_θq y is Σ J_θᵀ (J_q y) over the readings, so no H_qθ is
+// formed. *cost receives ½ Σ ρ.
+Eigen::VectorXd reducedGradient(const MeasurementModel& model, const SensorParameters& theta,
+                                const NoiseModel& noise, const RobustLoss& loss,
+                                const Observations& obs, const RowMatrix& q, double lambda,
+                                const std::vector<int>& free_of, int nf, int threads,
+                                std::vector<FrameWorkspace>* ws, const EvalOptions& groups,
+                                const FrameVisitor& visit, double* cost) {
+  const int dof = model.dof();
+  const int T = obs.num_frames;
+  std::vector<Eigen::VectorXd> bg(kBlocks, Eigen::VectorXd::Zero(nf));
+  std::vector<double> bcost(kBlocks, 0.0);
+  EvalOptions eo = groups;
+  eo.jacobians = true;
+  eo.theta_jacobians = true;
+  parallelFor(kBlocks, threads, [&](int block, int tid) {
+    FrameWorkspace& w = (*ws)[tid];
+    Eigen::MatrixXd H(dof, dof);
+    Eigen::VectorXd gq(dof), y(dof), qt(dof);
+    const int begin = static_cast<int>(static_cast<long>(T) * block / kBlocks);
+    const int end = static_cast<int>(static_cast<long>(T) * (block + 1) / kBlocks);
+    for (int t = begin; t < end; ++t) {
+      qt = q.row(t).transpose();
+      bcost[block] += evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), qt, eo, &w);
+      accumulateNormalEquations(w, &H, &gq);
+      if (visit) visit(block, w, H);
+      dampQ(lambda, &H);
+      y = H.llt().solve(gq);
+      for (int i = 0; i < w.count; ++i) {
+        const ReadingJacobian& rj = w.readings[i];
+        const std::vector<int>& cols = *rj.q_cols;
+        for (int r = 0; r < rj.rows; ++r) {
+          double v = rj.r[r];  // (r - J_q y) row by row
+          for (size_t a = 0; a < cols.size(); ++a) v -= rj.Jq(r, a) * y[cols[a]];
+          for (int b = 0; b < rj.theta_count; ++b) {
+            const int fb = free_of[rj.theta_index[b]];
+            if (fb >= 0) bg[block][fb] += rj.Jtheta(r, b) * v;
+          }
+        }
+      }
+    }
+  });
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(nf);
+  *cost = 0;
+  for (int b = 0; b < kBlocks; ++b) g += bg[b], *cost += bcost[b];
+  return g;
+}
+
+// Frames whose reduced curvature stands for all of them in a coupled step.
+constexpr int kCurvatureFrames = 500;
+
+}  // namespace
+
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
                    SensorParameters* theta, QState* state, const EvalOptions& groups,
-                   bool within_limits) {
+                   bool within_limits, const FrameVisitor& visit) {
   const int dof = model.dof();
   const int T = obs.num_frames;
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
@@ -158,10 +215,34 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
   for (int i = 0; i < nf; ++i) free_of[free_index[i]] = i;
   Eigen::VectorXd lower, upper;
   widenedLimits(model.robot(), &lower, &upper);
+  // The reduced curvature S costs O(dof·nf²) per frame, the rest O(dof²):
+  // on a long log S comes from frames spread over it, scaled up, while the
+  // gradient and the back-substitution use every frame. S is then slightly
+  // off (a quasi-Newton step, still converging fast), the gradient exact, so
+  // the fixed point is the true optimum.
+  const std::vector<int> sample = spreadFrames(T, kCurvatureFrames);
+  const bool sampled = static_cast<int>(sample.size()) < T;
+  const Observations sample_obs = sampled ? selectFrames(obs, sample) : Observations();
+  RowMatrix sample_q;
+  if (sampled) {
+    sample_q.resize(static_cast<Eigen::Index>(sample.size()), dof);
+    for (size_t i = 0; i < sample.size(); ++i) sample_q.row(i) = state->q.row(sample[i]);
+  }
+  const double scale = static_cast<double>(T) / static_cast<double>(sample.size());
   double old_cost = -1;
   for (int attempt = 0; attempt < 6; ++attempt) {
-    ReducedSystem rs = reduceOntoTheta(model, *theta, noise, loss, obs, state->q, *lambda,
-                                       true, threads, ws, groups);
+    // Every attempt starts from the same (θ, q): the visitor sees it once.
+    const FrameVisitor none;
+    const FrameVisitor& first = attempt == 0 ? visit : none;
+    ReducedSystem rs = reduceOntoTheta(model, *theta, noise, loss, sampled ? sample_obs : obs,
+                                       sampled ? sample_q : state->q, *lambda, !sampled,
+                                       threads, ws, groups, sampled ? none : first);
+    if (sampled) {
+      rs.S *= scale;
+      rs.H_diag *= scale;
+      rs.g = reducedGradient(model, *theta, noise, loss, obs, state->q, *lambda, free_of, nf,
+                             threads, ws, groups, first, &rs.cost);
+    }
     if (old_cost < 0) old_cost = rs.cost;
     Eigen::MatrixXd A = rs.S;
     const double eps = 1e-12 * std::max(1.0, A.diagonal().maxCoeff());
@@ -169,21 +250,34 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     const Eigen::VectorXd dtheta = nf > 0 ? Eigen::VectorXd(A.ldlt().solve(-rs.g))
                                           : Eigen::VectorXd();
     if (!dtheta.allFinite()) return old_cost;
-    // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ).
+    Eigen::VectorXd dfull = Eigen::VectorXd::Zero(model.thetaSize());
+    for (int i = 0; i < nf; ++i) dfull[free_index[i]] = dtheta[i];
+    // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ),
+    // with H_qθ Δθ = Σ J_qᵀ (J_θ Δθ) over the readings.
     RowMatrix q_new = state->q;
+    EvalOptions eo = groups;
+    eo.jacobians = true;
+    eo.theta_jacobians = nf > 0;
     parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
-      FrameSystem fs{Eigen::MatrixXd(dof, dof), Eigen::MatrixXd(dof, nf), Eigen::VectorXd(dof)};
-      Eigen::VectorXd qt(dof);
-      double dummy = 0;
+      FrameWorkspace& w = (*ws)[tid];
+      Eigen::MatrixXd H(dof, dof);
+      Eigen::VectorXd rhs(dof), qt(dof), dq(dof);
       const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
       for (int t = chunk * kFramesPerChunk; t < end; ++t) {
         qt = state->q.row(t).transpose();
-        frameSystem(model, *theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, nullptr,
-                    nullptr, &dummy, groups);
-        dampQ(*lambda, &fs.Hqq);
-        const Eigen::VectorXd rhs = fs.gq + (nf > 0 ? Eigen::VectorXd(fs.Hqt * dtheta)
-                                                    : Eigen::VectorXd::Zero(dof));
-        const Eigen::VectorXd dq = fs.Hqq.llt().solve(-rhs);
+        evaluateFrame(model, *theta, noise, loss, frameReadings(obs, t), qt, eo, &w);
+        accumulateNormalEquations(w, &H, &rhs);
+        for (int i = 0; i < w.count; ++i) {
+          const ReadingJacobian& rj = w.readings[i];
+          const std::vector<int>& cols = *rj.q_cols;
+          for (int r = 0; r < rj.rows; ++r) {
+            double v = 0;  // (J_θ Δθ) row by row
+            for (int b = 0; b < rj.theta_count; ++b) v += rj.Jtheta(r, b) * dfull[rj.theta_index[b]];
+            for (size_t a = 0; a < cols.size(); ++a) rhs[cols[a]] += rj.Jq(r, a) * v;
+          }
+        }
+        dampQ(*lambda, &H);
+        dq = H.llt().solve(-rhs);
         if (dq.allFinite())
           q_new.row(t) = within_limits
                              ? (qt + dq).cwiseMax(lower).cwiseMin(upper).transpose().eval()

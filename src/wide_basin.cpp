@@ -195,29 +195,6 @@ bool verifySigns(const MeasurementModel& model, const Observations& obs, const N
 
 }  // namespace
 
-std::vector<int> spreadFrames(int frames, int count) {
-  std::vector<int> out;
-  const int n = std::min(frames, count);
-  for (int i = 0; i < n; ++i) out.push_back(static_cast<int>(static_cast<long>(i) * frames / n));
-  return out;
-}
-
-Observations selectFrames(const Observations& obs, const std::vector<int>& frames) {
-  Observations out;
-  out.num_frames = static_cast<int>(frames.size());
-  out.marker.resize(out.num_frames, obs.marker.cols());
-  out.joint.resize(out.num_frames, obs.joint.cols());
-  out.tendon.resize(out.num_frames, obs.tendon.cols());
-  for (int i = 0; i < out.num_frames; ++i) {
-    out.marker.row(i) = obs.marker.row(frames[i]);
-    out.joint.row(i) = obs.joint.row(frames[i]);
-    out.tendon.row(i) = obs.tendon.row(frames[i]);
-    if (!obs.time.empty()) out.time.push_back(obs.time[frames[i]]);
-  }
-  out.time_name = obs.time_name;
-  return out;
-}
-
 SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Observations& obs,
                                          const NoiseModel& noise, const RobustLoss& loss,
                                          int threads, std::vector<FrameWorkspace>* ws_ptr,
@@ -241,11 +218,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
     to.update[1] = to.update[2] = false;
     if (!guesses.empty()) {
       // Pick each guess's sign on a subsample of frames.
-      std::vector<int> sub;
-      const int n_sub = std::min(obs.num_frames, 150);
-      for (int i = 0; i < n_sub; ++i)
-        sub.push_back(static_cast<int>(static_cast<long>(i) * obs.num_frames / n_sub));
-      const Observations so = selectFrames(obs, sub);
+      const Observations so = selectFrames(obs, spreadFrames(obs.num_frames, 150));
       QState ss;
       ss.q = neutralPose(robot).transpose().replicate(so.num_frames, 1);
       // A candidate's score: how well the markers fit once the mocap frame
@@ -253,25 +226,29 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       // covers (gimbals driven by linear pots, say) follow the markers.
       QPhaseOptions free_only = qo;
       free_only.method = QPhaseMethod::kLmBatch;
-      free_only.max_steps = 8;
+      free_only.max_steps = 4;
       free_only.frozen.assign(robot.dof(), false);
       bool any_free = false;
       for (const PotGuess& g : guesses) free_only.frozen[g.column] = true;
       for (int j = 0; j < robot.dof(); ++j) any_free |= !free_only.frozen[j];
+      // The free joints start where the best candidate so far left them:
+      // one sign or scale change moves them little, so a few LM steps
+      // re-converge them.
+      RowMatrix warm_q = ss.q;
+      free_only.step_tolerance = 1e-6;
       auto markerCost = [&](SensorParameters* th) {
-        ss.q = neutralPose(robot).transpose().replicate(so.num_frames, 1);
+        ss.q = warm_q;
         applyPotGuesses(guesses, so, &ss.q);
-        for (int round = 0; round < (any_free ? 2 : 1); ++round) {
-          if (marker_group_free) {
-            initialiseMarkerGroup(model, so, ss, 2, threads, ws_ptr, th);
-            thetaPhase(model, noise, loss, so, ss, to, ws_ptr, th);
-          }
-          if (any_free) qPhase(model, *th, noise, loss, so, free_only, ws_ptr, &ss);
+        if (marker_group_free) {
+          initialiseMarkerGroup(model, so, ss, 2, threads, ws_ptr, th);
+          thetaPhase(model, noise, loss, so, ss, to, ws_ptr, th);
         }
+        if (any_free) qPhase(model, *th, noise, loss, so, free_only, ws_ptr, &ss);
         return totalCost(model, *th, noise, loss, so, qo.eval, threads, ws_ptr, &ss);
       };
       SensorParameters th = theta;
       double best = markerCost(&th);
+      warm_q = ss.q;
       auto fixedGuess = [&](const PotGuess& g) { return sensors.joint_sensors[g.sensor].fixed; };
       // The likeliest wrong answers are mirror images of the whole motion:
       // the world turned half a turn about a base axis a flips the sign of
@@ -306,7 +283,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
             th = theta;
             const double c = markerCost(&th);
             if (k >= 0) flip(patterns[k]);
-            if (c < best) best = c, best_pattern = k, best_scale = s;
+            if (c < best) best = c, best_pattern = k, best_scale = s, warm_q = ss.q;
           }
           scale(1.0 / s);
         }
@@ -324,7 +301,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
         std::swap(guesses, seeded);
         th = theta;
         const double c = markerCost(&th);
-        if (c < best) best = c; else std::swap(guesses, seeded);
+        if (c < best) best = c, warm_q = ss.q; else std::swap(guesses, seeded);
       }
       // Greedy sign sweeps: each guess alone, then each guess together with
       // the nearest guessed joint above it in the tree. Two wrong signs in a
@@ -362,6 +339,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
               const double c = markerCost(&trial);
               if (c < 0.98 * best) {
                 best = c;
+                warm_q = ss.q;
                 changed = true;
               } else {
                 g.alpha /= s;
@@ -387,6 +365,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
             // data a double mirror can score marginally better by chance.
             if (c < (move.size() > 1 ? 0.95 : 1.0) * best) {
               best = c;
+              warm_q = ss.q;
               changed = true;
             } else {
               flipMove(move);
@@ -412,7 +391,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
     if (marker_group_free)
       initialiseMarkerGroup(model, obs, *state, 3, threads, ws_ptr, &theta);
     double init_lambda = 1e-3;
-    auto alternate = [&]() {
+    auto alternate = [&](double tol) {
     double prev = -1;
     for (int it = 0; it < 30; ++it) {
       double c = 0;
@@ -433,19 +412,19 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       if (coupled_steps && prev > 0 && prev - c < 1e-2 * prev)
         c = coupledStep(model, noise, loss, obs, threads, ws_ptr, &init_lambda, &theta, state,
                         qo.eval, true);
-      if (prev > 0 && std::abs(prev - c) <= 1e-4 * prev) break;
+      if (prev > 0 && std::abs(prev - c) <= tol * prev) break;
       prev = c;
     }
     };
     if (!guesses.empty() && marker_group_free) {
       qo.eval.group_weight[1] = kInitPotWeight;
-      alternate();
+      alternate(1e-3);
       qo.eval.group_weight[1] = 1.0;
     }
-    alternate();
+    alternate(1e-3);
     if (marker_group_free && !moves.empty() &&
         verifySigns(model, obs, noise, loss, threads, ws_ptr, guesses, moves, &theta, state))
-      alternate();
+      alternate(1e-4);
     ThetaPhaseOptions pots;
     pots.threads = threads;
     pots.update[0] = false;

@@ -12,10 +12,6 @@ namespace stac {
 // Frames used for initialising: at most this many, spread over the log.
 constexpr int kInitFrames = 1000;
 
-// `count` frame indices spread evenly over [0, frames).
-std::vector<int> spreadFrames(int frames, int count);
-Observations selectFrames(const Observations& obs, const std::vector<int>& frames);
-
 // Returns θ initialised from `theta` (the seed) on obs; state->q (one row per
 // frame of obs, neutral on entry) receives the initial joint angles.
 SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Observations& obs,

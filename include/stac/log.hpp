@@ -58,4 +58,9 @@ Observations bindLog(const Log& log, const SensorSet& sensors,
 // Frames [begin, end) of the observations.
 Observations sliceFrames(const Observations& obs, int begin, int end);
 
+// `count` frame indices spread evenly over [0, frames) (all of them if
+// count >= frames), and the observations of such a subset.
+std::vector<int> spreadFrames(int frames, int count);
+Observations selectFrames(const Observations& obs, const std::vector<int>& frames);
+
 }  // namespace stac

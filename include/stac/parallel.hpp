@@ -48,7 +48,7 @@ inline void parallelFor(int num_chunks, int threads,
 }
 
 // Frames per chunk: fixed, so chunking is independent of the thread count.
-constexpr int kFramesPerChunk = 64;
+constexpr int kFramesPerChunk = 16;
 inline int numChunks(int frames) { return (frames + kFramesPerChunk - 1) / kFramesPerChunk; }
 
 }  // namespace stac

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "stac/log.hpp"
@@ -25,12 +26,23 @@ struct ReducedSystem {
 // The free θ entries (MeasurementModel::thetaFree) in order.
 std::vector<int> freeThetaIndex(const MeasurementModel& model);
 
+// Frames are summed in this many fixed blocks of consecutive frames
+// (independent of the thread count, so sums are deterministic).
+constexpr int kReductionBlocks = 16;
+
+// Sees each frame of a gradient pass: its block, its evaluation with
+// Jacobians, and its H_qq before damping. Called from worker threads, at
+// most one call per block at a time.
+using FrameVisitor =
+    std::function<void(int block, const FrameWorkspace& w, const Eigen::MatrixXd& Hqq)>;
+
 ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParameters& theta,
                               const NoiseModel& noise, const RobustLoss& loss,
                               const Observations& obs, const RowMatrix& q, double lambda,
                               bool with_gradient, int threads,
                               std::vector<FrameWorkspace>* ws,
-                              const EvalOptions& groups = EvalOptions());
+                              const EvalOptions& groups = EvalOptions(),
+                              const FrameVisitor& visit = nullptr);
 
 // θ ⊕ δ for a step over the free entries (rotation as a left perturbation).
 SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParameters& theta,
@@ -44,10 +56,12 @@ SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParam
 // so that a joint cannot walk to its half-turn mirror (a joint turned by π
 // with its links' markers turned back fits as well); the main loop does not,
 // since a projected step stalls when a bad start leaves frames at the bounds.
+// `visit` sees every frame at the starting point (θ, q), once.
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
                    SensorParameters* theta, QState* state,
-                   const EvalOptions& groups = EvalOptions(), bool within_limits = false);
+                   const EvalOptions& groups = EvalOptions(), bool within_limits = false,
+                   const FrameVisitor& visit = nullptr);
 
 }  // namespace stac
