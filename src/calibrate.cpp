@@ -78,62 +78,6 @@ struct PassStats {
   double group_cost[kNumSensorGroups] = {0, 0, 0};  // ½ Σ ρ per group
 };
 
-// Adds each group's share of the dof the frame's q_t took, tr(J_g H⁻¹ J_gᵀ),
-// to leverage[] (H = Σ_g J_gᵀ J_g, given; overwritten). The shares sum to
-// tr(H⁻¹ H) = dof, so the markers' share is what the pots' and tendons'
-// (one row, few columns each: entries of H⁻¹ from L⁻¹, H = L Lᵀ) leave;
-// no marker's 3 x k block is touched.
-void addLeverage(const FrameWorkspace& w, Eigen::MatrixXd* H, Eigen::MatrixXd* Linv,
-                 double leverage[kNumSensorGroups]) {
-  const int n = static_cast<int>(H->rows());
-  const double eps = 1e-12 * std::max(1.0, H->diagonal().maxCoeff());
-  H->diagonal().array() += eps;
-  // In-place Cholesky, then L⁻¹ (both lower); plain loops beat Eigen's
-  // blocked kernels at these sizes.
-  Eigen::MatrixXd& L = *H;
-  for (int j = 0; j < n; ++j) {
-    double d = L(j, j);
-    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
-    if (!(d > 0)) return;  // not positive definite: leave this frame out
-    d = std::sqrt(d);
-    L(j, j) = d;
-    for (int i = j + 1; i < n; ++i) {
-      double s = L(i, j);
-      for (int k = 0; k < j; ++k) s -= L(i, k) * L(j, k);
-      L(i, j) = s / d;
-    }
-  }
-  Eigen::MatrixXd& M = *Linv;
-  for (int j = 0; j < n; ++j) {
-    M(j, j) = 1.0 / L(j, j);
-    for (int i = j + 1; i < n; ++i) {
-      double s = 0;
-      for (int k = j; k < i; ++k) s -= L(i, k) * M(k, j);
-      M(i, j) = s / L(i, i);
-    }
-  }
-  // (H⁻¹)_ab = Σ_k≥max(a,b) L⁻¹(k,a) L⁻¹(k,b).
-  auto hinv = [&](int a, int b) {
-    const int lo = std::max(a, b);
-    return M.col(a).segment(lo, n - lo).dot(M.col(b).segment(lo, n - lo));
-  };
-  double others = 0, trace = 0;
-  for (int i = 0; i < n; ++i) trace += hinv(i, i);
-  for (int i = 0; i < w.count; ++i) {
-    const ReadingJacobian& rj = w.readings[i];
-    if (rj.group == SensorGroup::kMarker) continue;
-    const std::vector<int>& cols = *rj.q_cols;
-    double lev = 0;
-    for (size_t a = 0; a < cols.size(); ++a)
-      for (size_t b = 0; b < cols.size(); ++b)
-        lev += rj.Jq(0, a) * hinv(cols[a], cols[b]) * rj.Jq(0, b);
-    leverage[static_cast<int>(rj.group)] += lev;
-    others += lev;
-  }
-  // tr(H⁻¹ (H - εI)) = n - ε tr(H⁻¹): a joint no reading sees adds 0.
-  leverage[static_cast<int>(SensorGroup::kMarker)] += n - eps * trace - others;
-}
-
 PassStats costPass(const MeasurementModel& model, const SensorParameters& theta,
                    const NoiseModel& noise, const NoiseModel& seed_noise,
                    const RobustLoss& loss, const Observations& obs, const RowMatrix& q,
@@ -174,7 +118,7 @@ PassStats costPass(const MeasurementModel& model, const SensorParameters& theta,
       }
       if (!leverage || rows == 0) continue;
       accumulateNormalEquations(w, &H, &g);
-      addLeverage(w, &H, &Linv, st.leverage);
+      addGroupLeverage(w, &H, &Linv, st.leverage);
     }
   });
   PassStats total;
@@ -217,9 +161,11 @@ double adaptNoise(const PassStats& st, const NoiseModel& seed, GroupScales* scal
     const double step = k - kappa;
     const double ratio = last != 0 ? step / last : 0;
     double next = k;
-    // Only on clear trends: small steps mix in the fit's own settling.
+    // Only on clear trends (small steps mix in the fit's own settling), and
+    // never far from the plain estimate: far from the optimum the "trend"
+    // may be the fit changing basin, not σ converging.
     if (ratio > 0 && ratio < 0.9 && std::abs(step) > 1e-3 * kappa) {
-      next = kappa + step / (1 - std::min(ratio, 0.6));
+      next = std::clamp(kappa + step / (1 - std::min(ratio, 0.6)), 0.8 * k, 1.25 * k);
       last = 0;
     } else {
       last = step;
@@ -361,7 +307,7 @@ LoopOutcome stacIterations(const MeasurementModel& model, const Observations& ob
       const FrameVisitor visit = [&](int block, const FrameWorkspace& w,
                                      const Eigen::MatrixXd& Hqq) {
         Eigen::MatrixXd H = Hqq, Linv(Hqq.rows(), Hqq.cols());
-        addLeverage(w, &H, &Linv, lev[block].data());
+        addGroupLeverage(w, &H, &Linv, lev[block].data());
       };
       coupledStep(model, *noise, loss, obs, threads, ws, &lambda, theta, state, EvalOptions(),
                   false, options.adapt_variance ? visit : FrameVisitor());

@@ -26,6 +26,60 @@ void accumulateNormalEquations(const FrameWorkspace& ws, Eigen::MatrixXd* H,
   H->triangularView<Eigen::StrictlyUpper>() = H->transpose();
 }
 
+// Cholesky and L⁻¹ in plain loops: they beat Eigen's blocked kernels at
+// these sizes. The markers' share is what the pots' and tendons' (one row,
+// few columns each: entries of H⁻¹ = L⁻ᵀ L⁻¹) leave of tr(H⁻¹ H), so no
+// marker's 3 x k block is touched.
+void addGroupLeverage(const FrameWorkspace& w, Eigen::MatrixXd* H, Eigen::MatrixXd* Linv,
+                      double leverage[kNumSensorGroups]) {
+  const int n = static_cast<int>(H->rows());
+  const double eps = 1e-12 * std::max(1.0, H->diagonal().maxCoeff());
+  H->diagonal().array() += eps;
+  // In-place Cholesky, then L⁻¹ (both lower).
+  Eigen::MatrixXd& L = *H;
+  for (int j = 0; j < n; ++j) {
+    double d = L(j, j);
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    if (!(d > 0)) return;  // not positive definite: leave this frame out
+    d = std::sqrt(d);
+    L(j, j) = d;
+    for (int i = j + 1; i < n; ++i) {
+      double s = L(i, j);
+      for (int k = 0; k < j; ++k) s -= L(i, k) * L(j, k);
+      L(i, j) = s / d;
+    }
+  }
+  Eigen::MatrixXd& M = *Linv;
+  for (int j = 0; j < n; ++j) {
+    M(j, j) = 1.0 / L(j, j);
+    for (int i = j + 1; i < n; ++i) {
+      double s = 0;
+      for (int k = j; k < i; ++k) s -= L(i, k) * M(k, j);
+      M(i, j) = s / L(i, i);
+    }
+  }
+  // (H⁻¹)_ab = Σ_k≥max(a,b) L⁻¹(k,a) L⁻¹(k,b).
+  auto hinv = [&](int a, int b) {
+    const int lo = std::max(a, b);
+    return M.col(a).segment(lo, n - lo).dot(M.col(b).segment(lo, n - lo));
+  };
+  double others = 0, trace = 0;
+  for (int i = 0; i < n; ++i) trace += hinv(i, i);
+  for (int i = 0; i < w.count; ++i) {
+    const ReadingJacobian& rj = w.readings[i];
+    if (rj.group == SensorGroup::kMarker) continue;
+    const std::vector<int>& cols = *rj.q_cols;
+    double lev = 0;
+    for (size_t a = 0; a < cols.size(); ++a)
+      for (size_t b = 0; b < cols.size(); ++b)
+        lev += rj.Jq(0, a) * hinv(cols[a], cols[b]) * rj.Jq(0, b);
+    leverage[static_cast<int>(rj.group)] += lev;
+    others += lev;
+  }
+  // tr(H⁻¹ (H - εI)) = n - ε tr(H⁻¹): a joint no reading sees adds 0.
+  leverage[static_cast<int>(SensorGroup::kMarker)] += n - eps * trace - others;
+}
+
 void widenedLimits(const RobotModel& robot, Eigen::VectorXd* lower, Eigen::VectorXd* upper) {
   *lower = robot.lowerLimits();
   *upper = robot.upperLimits();

@@ -4,9 +4,11 @@
 // robustified.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "stac/measurement.hpp"
+#include "stac/q_phase.hpp"
 #include "stac/schur.hpp"
 #include "support/test_util.hpp"
 
@@ -168,6 +170,53 @@ TEST(Measurement, RobustCostIsHalfTheSumOfRho) {
   }
   EXPECT_NEAR(cost, 0.5 * sum, 1e-9 * sum);
   EXPECT_NEAR(check, sum, 1e-9 * sum);  // the robustified residual's norm² is ρ
+}
+
+
+// Each group's share of the dof q_t takes against tr(J_g H⁻¹ J_gᵀ) from the
+// dense Jacobian, plain and robustified, with a marker missing too.
+void checkGroupLeverage(const RobustLoss& loss, bool drop_marker) {
+  Scene s;
+  if (drop_marker) s.obs.marker.row(0).head(3).setConstant(std::nan(""));
+  const MeasurementModel model(s.robot, s.sensors);
+  FrameWorkspace ws(model);
+  EvalOptions eo;
+  const int n = model.dof();
+  const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(n, 0.1, 0.4);
+  evaluateFrame(model, s.theta, NoiseModel::fromSeeds(s.sensors), loss, frameReadings(s.obs, 0),
+                q, eo, &ws);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3 * ws.count, n);
+  std::vector<int> group;
+  for (int i = 0; i < ws.count; ++i) {
+    const ReadingJacobian& rj = ws.readings[i];
+    for (int r = 0; r < rj.rows; ++r) {
+      for (size_t a = 0; a < rj.q_cols->size(); ++a)
+        J(static_cast<int>(group.size()), (*rj.q_cols)[a]) += rj.Jq(r, a);
+      group.push_back(static_cast<int>(rj.group));
+    }
+  }
+  J.conservativeResize(static_cast<int>(group.size()), n);
+  Eigen::MatrixXd H = J.transpose() * J;
+  const double eps = 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
+  const Eigen::MatrixXd Hinv = (H + eps * Eigen::MatrixXd::Identity(n, n)).inverse();
+  double want[kNumSensorGroups] = {0, 0, 0};
+  for (int r = 0; r < J.rows(); ++r) want[group[r]] += J.row(r) * Hinv * J.row(r).transpose();
+
+  Eigen::MatrixXd Hws(n, n), Linv(n, n);
+  Eigen::VectorXd g(n);
+  accumulateNormalEquations(ws, &Hws, &g);
+  double got[kNumSensorGroups] = {0, 0, 0};
+  addGroupLeverage(ws, &Hws, &Linv, got);
+  for (int k = 0; k < kNumSensorGroups; ++k) {
+    EXPECT_GT(want[k], 0.05) << "group " << k;  // every group takes a real share
+    EXPECT_NEAR(got[k], want[k], 1e-7) << "group " << k;
+  }
+}
+
+TEST(Measurement, GroupLeverageMatchesTheDenseHatMatrix) {
+  checkGroupLeverage(RobustLoss(), false);
+  checkGroupLeverage(RobustLoss(), true);
+  checkGroupLeverage(RobustLoss(LossKind::kHuber, 0.5), false);
 }
 
 }  // namespace

@@ -114,8 +114,13 @@ TEST(Stac, FreeBaseMarkerIsReportedUnidentifiable) {
   EXPECT_NEAR(r.summary.group_sigma[1], 0.01, 0.002);
 }
 
-TEST(Stac, IdenticalResultsWithOneAndTwoThreads) {
-  test::ArmProblem p = test::makeArmProblem(300, 9);
+// Over kInitFrames frames the log is solved on a subsample first and the
+// coupled steps take their curvature from a sample of frames: both paths.
+class ShortAndLongLogs : public ::testing::TestWithParam<int> {};
+INSTANTIATE_TEST_SUITE_P(Stac, ShortAndLongLogs, ::testing::Values(300, 2500));
+
+TEST_P(ShortAndLongLogs, IdenticalResultsWithOneAndTwoThreads) {
+  test::ArmProblem p = test::makeArmProblem(GetParam(), 9);
   CalibrationOptions o1 = quietOptions(), o2 = quietOptions();
   o1.threads = 1;
   RowMatrix q1, q2;
@@ -138,8 +143,8 @@ TEST(Stac, IdenticalResultsWithOneAndTwoThreads) {
 namespace stac {
 namespace {
 
-TEST(Joint, MonolithicAndAlternationReachTheSameCost) {
-  test::ArmProblem p = test::makeArmProblem(200, 3);
+TEST_P(ShortAndLongLogs, MonolithicAndAlternationReachTheSameCost) {
+  test::ArmProblem p = test::makeArmProblem(GetParam() == 300 ? 200 : GetParam(), 3);
   CalibrationOptions o;
   o.threads = 2;
   o.adapt_variance = false;  // same fixed σ: the two costs are comparable

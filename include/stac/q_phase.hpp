@@ -66,4 +66,11 @@ double totalCost(const MeasurementModel& model, const SensorParameters& theta,
 void accumulateNormalEquations(const FrameWorkspace& ws, Eigen::MatrixXd* H,
                                Eigen::VectorXd* g);
 
+// Adds each sensor group's share of the dof the frame's q_t takes,
+// tr(J_g H⁻¹ J_gᵀ) (the leverage of its readings), to leverage[]. H is that
+// evaluation's accumulateNormalEquations H (overwritten); Linv is a dof x dof
+// scratch. The shares sum to the number of joints some reading sees.
+void addGroupLeverage(const FrameWorkspace& ws, Eigen::MatrixXd* H, Eigen::MatrixXd* Linv,
+                      double leverage[kNumSensorGroups]);
+
 }  // namespace stac
