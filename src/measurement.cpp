@@ -44,8 +44,15 @@ ceres::LossFunction* RobustLoss::makeCeresLoss() const {
 
 MeasurementModel::MeasurementModel(const RobotModel& robot, const SensorSet& sensors)
     : robot_(&robot), sensors_(&sensors) {
-  for (const MarkerConfig& m : sensors.markers)
+  for (const MarkerConfig& m : sensors.markers) {
     marker_cols_.push_back(marker_sensor::columns(robot, m.link));
+    const std::vector<int>& cols = marker_cols_.back();
+    std::vector<int> slots;
+    for (int j : robot.supportingJoints(m.link))
+      slots.push_back(static_cast<int>(
+          std::find(cols.begin(), cols.end(), robot.movableJoints()[j].q_index) - cols.begin()));
+    marker_slots_.push_back(std::move(slots));
+  }
   for (const JointSensorConfig& s : sensors.joint_sensors)
     joint_cols_.push_back({joint_sensor::column(robot, s)});
   for (const TendonSensorConfig& s : sensors.tendon_sensors)
@@ -114,8 +121,7 @@ FrameReadings frameReadings(const Observations& obs, int t) {
 FrameWorkspace::FrameWorkspace(const MeasurementModel& model)
     : kin(model.robot()),
       readings(model.numReadingsMax()),
-      row(model.dof()),
-      point_jac(3, model.dof()) {
+      row(model.dof()) {
   // Readings fill the slots in order, skipping missing ones, so any slot may
   // hold any sensor: size each for the widest.
   size_t widest = 1;
@@ -196,9 +202,24 @@ double evaluateFrame(const MeasurementModel& model, const SensorParameters& thet
       const std::vector<int>& cols = model.markerColumns(static_cast<int>(m));
       rj.q_cols = &cols;
       if (jac) {
-        pointJacobian(robot, ws->kin, mc.link, xb, ws->point_jac);
-        for (size_t c = 0; c < cols.size(); ++c)
-          rj.Jq.col(c) = inv * (R * ws->point_jac.col(cols[c]));
+        // pointJacobian's columns straight into this reading's own (mimic
+        // followers add to their leader's), then rotated and whitened.
+        const std::vector<int>& support = robot.supportingJoints(mc.link);
+        const std::vector<int>& slot = model.markerSlots(static_cast<int>(m));
+        rj.Jq.leftCols(cols.size()).setZero();
+        for (size_t i = 0; i < support.size(); ++i) {
+          const MovableJoint& mj = robot.movableJoints()[support[i]];
+          const Eigen::Vector3d& a = ws->kin.joint_axis[support[i]];
+          if (mj.type == JointType::kPrismatic)
+            rj.Jq.col(slot[i]) += mj.multiplier * a;
+          else
+            rj.Jq.col(slot[i]) += mj.multiplier * a.cross(xb - ws->kin.joint_origin[support[i]]);
+        }
+        const Eigen::Matrix3d M = inv * R;
+        for (size_t c = 0; c < cols.size(); ++c) {
+          const Eigen::Vector3d v = rj.Jq.col(c);
+          rj.Jq.col(c) = M * v;
+        }
       }
       rj.theta_count = 0;
       if (tjac) {

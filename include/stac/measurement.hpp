@@ -68,6 +68,9 @@ class MeasurementModel {
   int numReadingsMax() const { return num_sensors_; }
 
   const std::vector<int>& markerColumns(int m) const { return marker_cols_[m]; }
+  // For each of the marker's link's supporting joints (RobotModel order),
+  // its position in markerColumns(m).
+  const std::vector<int>& markerSlots(int m) const { return marker_slots_[m]; }
   const std::vector<int>& jointColumns(int s) const { return joint_cols_[s]; }
   const std::vector<int>& tendonColumns(int s) const { return tendon_cols_[s]; }
 
@@ -91,6 +94,7 @@ class MeasurementModel {
   const SensorSet* sensors_;
   int num_sensors_ = 0;
   std::vector<std::vector<int>> marker_cols_, joint_cols_, tendon_cols_;
+  std::vector<std::vector<int>> marker_slots_;
   int joint_offset_ = 0, tendon_offset_ = 0, theta_size_ = 0;
   std::vector<std::string> theta_names_;
   std::vector<bool> theta_free_;
@@ -126,7 +130,6 @@ struct FrameWorkspace {
   std::vector<ReadingJacobian> readings;
   int count = 0;                  // readings filled by the last evaluation
   Eigen::RowVectorXd row;         // dof scratch
-  Eigen::MatrixXd point_jac;      // 3 x dof scratch
 };
 
 // Evaluates frame t at q. Returns the frame's cost ½ Σ ρ(s). With
