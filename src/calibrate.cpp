@@ -65,6 +65,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Outer iterations at most on the initial subsample of a long log.
+constexpr int kPresolveIterations = 40;
+
 // One pass over all frames: cost, raw residual sums per group and, for the
 // variance adaptation, the degrees of freedom each group's residuals lost to
 // the fitted q_t (the leverage Σ tr(J_g H⁻¹ J_gᵀ)).
@@ -509,10 +512,14 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
         adaptAndRescore(model, theta, seed_noise, loss, sub_obs, sub_state.q, threads, &ws,
                         &kappa, &noise, &sub_st);
       }
+      // Only a start: a subsample that does not settle within
+      // kPresolveIterations hands over what it has.
+      CalibrationOptions sub_options = options;
+      sub_options.max_iterations = std::min(options.max_iterations, kPresolveIterations);
       presolved = true;
       start_coupled = options.coupled_steps &&
-                      stacIterations(model, sub_obs, seed_noise, loss, options, false, false, sub_st,
-                                     &kappa, &noise, &theta, &sub_state, &ws, nullptr)
+                      stacIterations(model, sub_obs, seed_noise, loss, sub_options, false, false,
+                                     sub_st, &kappa, &noise, &theta, &sub_state, &ws, nullptr)
                           .converged;
     }
     // Every other frame's q_t from its initialised neighbours (linearly in
