@@ -173,7 +173,6 @@ double adaptNoise(const PassStats& st, const NoiseModel& seed, GroupScales* scal
     } else {
       last = step;
     }
-    next = std::max(next, 1e-9);
     change = std::max(change, std::abs(next - kappa) / kappa);
     kappa = next;
   }
@@ -208,6 +207,18 @@ double adaptAndRescore(const MeasurementModel& model, const SensorParameters& th
     st->leverage[g] = 0;
   }
   return change;
+}
+
+// A pass at the current σ; with `adapt`, σ re-estimated from it and the
+// pass re-scored at the new σ.
+PassStats adaptedPass(const MeasurementModel& model, const SensorParameters& theta,
+                      const NoiseModel& seed_noise, const RobustLoss& loss,
+                      const Observations& obs, const RowMatrix& q, bool adapt, int threads,
+                      std::vector<FrameWorkspace>* ws, GroupScales* scales, NoiseModel* noise) {
+  PassStats st = costPass(model, theta, *noise, seed_noise, loss, obs, q, adapt, threads, ws);
+  if (adapt)
+    adaptAndRescore(model, theta, seed_noise, loss, obs, q, threads, ws, scales, noise, &st);
+  return st;
 }
 
 IterationReport makeReport(int it, const PassStats& st, Clock::time_point start,
@@ -283,11 +294,9 @@ struct LoopOutcome {
 // start with `coupled`), coupled Gauss-Newton steps (every q_t eliminated
 // per frame, schur.hpp), which converge fast where q and θ are strongly
 // coupled and the alternation would crawl. `report` sees every iteration.
-// `hold_first_sigma`: σ is adapted from the second iteration on.
 LoopOutcome stacIterations(const MeasurementModel& model, const Observations& obs,
                            const NoiseModel& seed_noise, const RobustLoss& loss,
-                           const CalibrationOptions& options, bool coupled,
-                           bool hold_first_sigma, PassStats st,
+                           const CalibrationOptions& options, bool coupled, PassStats st,
                            GroupScales* kappa, NoiseModel* noise,
                            SensorParameters* theta, QState* state,
                            std::vector<FrameWorkspace>* ws,
@@ -307,10 +316,12 @@ LoopOutcome stacIterations(const MeasurementModel& model, const Observations& ob
       // the q_t take for the variance adaptation, which saves a pass with
       // Jacobians; at the fixed point start and end coincide.
       std::vector<std::array<double, kNumSensorGroups>> lev(kReductionBlocks, {0, 0, 0});
+      std::vector<Eigen::MatrixXd> H(kReductionBlocks), Linv(kReductionBlocks);  // scratch
       const FrameVisitor visit = [&](int block, const FrameWorkspace& w,
                                      const Eigen::MatrixXd& Hqq) {
-        Eigen::MatrixXd H = Hqq, Linv(Hqq.rows(), Hqq.cols());
-        addGroupLeverage(w, &H, &Linv, lev[block].data());
+        H[block] = Hqq;
+        Linv[block].resize(Hqq.rows(), Hqq.cols());
+        addGroupLeverage(w, &H[block], &Linv[block], lev[block].data());
       };
       coupledStep(model, *noise, loss, obs, threads, ws, &lambda, theta, state, EvalOptions(),
                   false, options.adapt_variance ? visit : FrameVisitor());
@@ -328,10 +339,7 @@ LoopOutcome stacIterations(const MeasurementModel& model, const Observations& ob
     out.iterations = it;
     double change = 0;
     if (report) report(it, st);
-    // σ came from a subsample: keep it for a step from the interpolated
-    // start, whose residuals would mislead the adaptation.
-    const bool held = options.adapt_variance && hold_first_sigma && it == 1;
-    if (options.adapt_variance && !held) {
+    if (options.adapt_variance) {
       change = adaptAndRescore(model, *theta, seed_noise, loss, obs, state->q, threads, ws,
                                kappa, noise, &st);
       // The first update of a run also absorbs the change of data or start
@@ -339,7 +347,7 @@ LoopOutcome stacIterations(const MeasurementModel& model, const Observations& ob
       if (it == 1) std::fill(kappa->last_step, kappa->last_step + kNumSensorGroups, 0.0);
     }
     cost = st.cost;
-    if (std::abs(rel) < options.tolerance && change < 1e-3 && !held) {
+    if (std::abs(rel) < options.tolerance && change < 1e-3) {
       out.converged = true;
       break;
     }
@@ -506,20 +514,17 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
       // Converge on the subsample first (θ and σ): each iteration there
       // costs a fraction of one on the whole log, which then needs only the
       // last few coupled steps.
-      PassStats sub_st = costPass(model, theta, noise, seed_noise, loss, sub_obs, sub_state.q,
-                                  options.adapt_variance, threads, &ws);
-      if (options.adapt_variance) {
-        adaptAndRescore(model, theta, seed_noise, loss, sub_obs, sub_state.q, threads, &ws,
-                        &kappa, &noise, &sub_st);
-      }
+      const PassStats sub_st =
+          adaptedPass(model, theta, seed_noise, loss, sub_obs, sub_state.q,
+                      options.adapt_variance, threads, &ws, &kappa, &noise);
       // Only a start: a subsample that does not settle within
       // kPresolveIterations hands over what it has.
       CalibrationOptions sub_options = options;
       sub_options.max_iterations = std::min(options.max_iterations, kPresolveIterations);
       presolved = true;
       start_coupled = options.coupled_steps &&
-                      stacIterations(model, sub_obs, seed_noise, loss, sub_options, false, false,
-                                     sub_st, &kappa, &noise, &theta, &sub_state, &ws, nullptr)
+                      stacIterations(model, sub_obs, seed_noise, loss, sub_options, false, sub_st,
+                                     &kappa, &noise, &theta, &sub_state, &ws, nullptr)
                           .converged;
     }
     // Every other frame's q_t from its initialised neighbours (linearly in
@@ -541,11 +546,8 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
     qo.threads = threads;
     qPhase(model, theta, noise, loss, obs, qo, &ws, &state);
     // σ was adapted on the subsample when it was solved first; else here.
-    const bool adapt = options.adapt_variance && !presolved;
-    st = costPass(model, theta, noise, seed_noise, loss, obs, state.q, adapt, threads, &ws);
-    if (adapt)
-      adaptAndRescore(model, theta, seed_noise, loss, obs, state.q, threads, &ws, &kappa, &noise,
-                      &st);
+    st = adaptedPass(model, theta, seed_noise, loss, obs, state.q,
+                     options.adapt_variance && !presolved, threads, &ws, &kappa, &noise);
     if (options.progress) options.progress(makeReport(0, st, start, "init", &theta));
   } else if (options.progress) {
     options.progress(makeReport(0, st, start, "seed", &theta));
@@ -570,7 +572,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
     }
   } else {
     const LoopOutcome out = stacIterations(
-        model, obs, seed_noise, loss, options, start_coupled, false, st, &kappa, &noise, &theta, &state,
+        model, obs, seed_noise, loss, options, start_coupled, st, &kappa, &noise, &theta, &state,
         &ws, [&](int it, const PassStats& s) {
           if (options.progress) options.progress(makeReport(it, s, start, "stac", &theta));
         });

@@ -44,14 +44,22 @@ void pointJacobian(const RobotModel& model, const KinematicsWorkspace& ws,
                    Eigen::Ref<Eigen::MatrixXd> J) {
   assert(J.rows() == 3 && J.cols() == model.dof());
   J.setZero();
+  addPointJacobian(model, ws, link, point_in_base, nullptr, J);
+}
+
+void addPointJacobian(const RobotModel& model, const KinematicsWorkspace& ws, int link,
+                      const Eigen::Vector3d& point_in_base, const int* slots,
+                      Eigen::Ref<Eigen::MatrixXd> J) {
   const std::vector<MovableJoint>& joints = model.movableJoints();
-  for (int j : model.supportingJoints(link)) {
+  const std::vector<int>& support = model.supportingJoints(link);
+  for (size_t i = 0; i < support.size(); ++i) {
+    const int j = support[i];
     const MovableJoint& mj = joints[j];
+    const int c = slots ? slots[i] : mj.q_index;
     if (mj.type == JointType::kPrismatic) {
-      J.col(mj.q_index) += mj.multiplier * ws.joint_axis[j];
+      J.col(c) += mj.multiplier * ws.joint_axis[j];
     } else {
-      J.col(mj.q_index) += mj.multiplier * ws.joint_axis[j].cross(
-                                               point_in_base - ws.joint_origin[j]);
+      J.col(c) += mj.multiplier * ws.joint_axis[j].cross(point_in_base - ws.joint_origin[j]);
     }
   }
 }

@@ -202,19 +202,12 @@ double evaluateFrame(const MeasurementModel& model, const SensorParameters& thet
       const std::vector<int>& cols = model.markerColumns(static_cast<int>(m));
       rj.q_cols = &cols;
       if (jac) {
-        // pointJacobian's columns straight into this reading's own (mimic
-        // followers add to their leader's), then rotated and whitened.
-        const std::vector<int>& support = robot.supportingJoints(mc.link);
-        const std::vector<int>& slot = model.markerSlots(static_cast<int>(m));
+        // The point Jacobian straight into this reading's own columns (no
+        // 3 x dof scratch to zero and gather per marker), then rotated and
+        // whitened.
         rj.Jq.leftCols(cols.size()).setZero();
-        for (size_t i = 0; i < support.size(); ++i) {
-          const MovableJoint& mj = robot.movableJoints()[support[i]];
-          const Eigen::Vector3d& a = ws->kin.joint_axis[support[i]];
-          if (mj.type == JointType::kPrismatic)
-            rj.Jq.col(slot[i]) += mj.multiplier * a;
-          else
-            rj.Jq.col(slot[i]) += mj.multiplier * a.cross(xb - ws->kin.joint_origin[support[i]]);
-        }
+        addPointJacobian(robot, ws->kin, mc.link, xb,
+                         model.markerSlots(static_cast<int>(m)).data(), rj.Jq);
         const Eigen::Matrix3d M = inv * R;
         for (size_t c = 0; c < cols.size(); ++c) {
           const Eigen::Vector3d v = rj.Jq.col(c);

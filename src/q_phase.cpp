@@ -102,6 +102,9 @@ struct FrameSolver {
   Eigen::MatrixXd H, A;
   Eigen::VectorXd g, step, q_new;
   std::vector<int> free_cols;  // with options.frozen: the columns not frozen
+  Eigen::MatrixXd A_free;      // their damped system, solution, factor
+  Eigen::VectorXd step_free;
+  Eigen::LLT<Eigen::MatrixXd> llt_free;
 
   FrameSolver(const MeasurementModel& m, const SensorParameters& th,
               const NoiseModel& n, const RobustLoss& l, const QPhaseOptions& o)
@@ -117,6 +120,10 @@ struct FrameSolver {
     if (!o.frozen.empty())
       for (int i = 0; i < m.dof(); ++i)
         if (!o.frozen[i]) free_cols.push_back(i);
+    const int k = static_cast<int>(free_cols.size());
+    A_free.resize(k, k);
+    step_free.resize(k);
+    llt_free = Eigen::LLT<Eigen::MatrixXd>(k);
   }
 
   void project(Eigen::VectorXd* q) const { *q = q->cwiseMax(lower).cwiseMin(upper); }
@@ -134,18 +141,16 @@ struct FrameSolver {
     if (!options.frozen.empty()) {
       // Frozen columns: the system of the free ones only (often a few).
       const int k = static_cast<int>(free_cols.size());
-      Eigen::MatrixXd Af(k, k);
-      Eigen::VectorXd rhs(k);
       for (int a = 0; a < k; ++a) {
-        for (int b = 0; b < k; ++b) Af(a, b) = H(free_cols[a], free_cols[b]);
-        Af(a, a) += lambda * H(free_cols[a], free_cols[a]) + eps;
-        rhs[a] = -g[free_cols[a]];
+        for (int b = 0; b < k; ++b) A_free(a, b) = H(free_cols[a], free_cols[b]);
+        A_free(a, a) += lambda * H(free_cols[a], free_cols[a]) + eps;
+        step_free[a] = -g[free_cols[a]];
       }
-      Eigen::LLT<Eigen::MatrixXd> llt(Af);
-      const Eigen::VectorXd sf = llt.solve(rhs);
+      llt_free.compute(A_free);
+      llt_free.solveInPlace(step_free);
       step.setZero();
-      if (llt.info() != Eigen::Success || !sf.allFinite()) return;
-      for (int a = 0; a < k; ++a) step[free_cols[a]] = sf[a];
+      if (llt_free.info() != Eigen::Success || !step_free.allFinite()) return;
+      for (int a = 0; a < k; ++a) step[free_cols[a]] = step_free[a];
       return;
     }
     A = H;

@@ -227,6 +227,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       QPhaseOptions free_only = qo;
       free_only.method = QPhaseMethod::kLmBatch;
       free_only.max_steps = 4;
+      free_only.step_tolerance = 1e-6;  // a score, not a fit
       free_only.frozen.assign(robot.dof(), false);
       bool any_free = false;
       for (const PotGuess& g : guesses) free_only.frozen[g.column] = true;
@@ -235,7 +236,6 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
       // one sign or scale change moves them little, so a few LM steps
       // re-converge them.
       RowMatrix warm_q = ss.q;
-      free_only.step_tolerance = 1e-6;
       auto markerCost = [&](SensorParameters* th) {
         ss.q = warm_q;
         applyPotGuesses(guesses, so, &ss.q);

@@ -35,6 +35,13 @@ void pointJacobian(const RobotModel& model, const KinematicsWorkspace& ws,
                    int link, const Eigen::Vector3d& point_in_base,
                    Eigen::Ref<Eigen::MatrixXd> J);
 
+// Adds the same columns into J without zeroing it: supporting joint i of
+// `link` (RobotModel::supportingJoints order) goes to column slots[i], e.g.
+// a reading's own compact columns; with slots null, to its q index.
+void addPointJacobian(const RobotModel& model, const KinematicsWorkspace& ws, int link,
+                      const Eigen::Vector3d& point_in_base, const int* slots,
+                      Eigen::Ref<Eigen::MatrixXd> J);
+
 // Same, but adds `weight * w^T d(point)/dq` into a row vector (1 x dof):
 // what a scalar sensor that depends on a point (a tendon anchor) needs.
 void addPointJacobianTransposed(const RobotModel& model,
