@@ -102,9 +102,8 @@ struct FrameSolver {
   Eigen::MatrixXd H, A;
   Eigen::VectorXd g, step, q_new;
   std::vector<int> free_cols;  // with options.frozen: the columns not frozen
-  Eigen::MatrixXd A_free;      // their damped system, solution, factor
+  Eigen::MatrixXd A_free;      // their damped system (factored in place), solution
   Eigen::VectorXd step_free;
-  Eigen::LLT<Eigen::MatrixXd> llt_free;
 
   FrameSolver(const MeasurementModel& m, const SensorParameters& th,
               const NoiseModel& n, const RobustLoss& l, const QPhaseOptions& o)
@@ -123,7 +122,6 @@ struct FrameSolver {
     const int k = static_cast<int>(free_cols.size());
     A_free.resize(k, k);
     step_free.resize(k);
-    llt_free = Eigen::LLT<Eigen::MatrixXd>(k);
   }
 
   void project(Eigen::VectorXd* q) const { *q = q->cwiseMax(lower).cwiseMin(upper); }
@@ -146,10 +144,10 @@ struct FrameSolver {
         A_free(a, a) += lambda * H(free_cols[a], free_cols[a]) + eps;
         step_free[a] = -g[free_cols[a]];
       }
-      llt_free.compute(A_free);
-      llt_free.solveInPlace(step_free);
+      Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A_free);  // in place: no allocation
+      llt.solveInPlace(step_free);
       step.setZero();
-      if (llt_free.info() != Eigen::Success || !step_free.allFinite()) return;
+      if (llt.info() != Eigen::Success || !step_free.allFinite()) return;
       for (int a = 0; a < k; ++a) step[free_cols[a]] = step_free[a];
       return;
     }
