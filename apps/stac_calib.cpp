@@ -9,12 +9,11 @@
 #include "common/cli.hpp"
 #include "common/outputs.hpp"
 #include "stac/calibrate.hpp"
-#include "stac/classical.hpp"
 #include "stac/error.hpp"
 #include "stac/evaluate.hpp"
 #include "stac/file_io.hpp"
 #include "stac/log.hpp"
-#include "stac/measurement.hpp"
+#include "stac/theta_space.hpp"
 #include "stac/residuals.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/sensors_file.hpp"
@@ -76,7 +75,7 @@ const char* kGroupUnit[kNumSensorGroups] = {"m", "raw", "raw"};
 constexpr double kSuspectSigmaRatio = 3.0;
 
 void printSummary(const RobotModel& robot, const SensorSet& sensors, const SensorParameters& seed,
-                  const CalibrationResult& r, const MeasurementModel& model,
+                  const CalibrationResult& r,
                   const std::string& output) {
   const CalibrationSummary& s = r.summary;
   std::ostringstream o;
@@ -101,7 +100,7 @@ void printSummary(const RobotModel& robot, const SensorSet& sensors, const Senso
     o << buf;
   }
   // Parameters that moved most, in their own typical units.
-  const std::vector<ParameterChange> moved = largestChanges(model, seed, r.theta, 8);
+  const std::vector<ParameterChange> moved = largestChanges(ThetaSpace(sensors), seed, r.theta, 8);
   if (!moved.empty()) {
     o << "\nparameters that moved most           seed          final\n";
     for (const ParameterChange& c : moved) {
@@ -136,22 +135,20 @@ void printSummary(const RobotModel& robot, const SensorSet& sensors, const Senso
 // iterations, or a sensor group whose fitted noise is far above its seed σ
 // (a wrong minimum, a σ given in the wrong unit, or readings the model does
 // not explain).
-void warnIfSuspect(const SensorSet& sensors, const CalibrationSummary& s) {
+void warnIfSuspect(const CalibrationSummary& s) {
   if (!s.converged && s.method != "ekf")
     std::cerr << "stac_calib: warning: not converged after " << s.iterations
               << " iterations (raise --max-iterations, or check the data)\n";
-  CalibrationSummary seed;
-  summariseGroupNoise(sensors, NoiseModel::fromSeeds(sensors), &seed);
   for (int g = 0; g < kNumSensorGroups; ++g) {
-    if (!s.group_present[g] || !(seed.group_sigma[g] > 0)) continue;
-    const double ratio = s.group_sigma[g] / seed.group_sigma[g];
+    if (!s.group_present[g] || !(s.seed_group_sigma[g] > 0)) continue;
+    const double ratio = s.group_sigma[g] / s.seed_group_sigma[g];
     if (ratio <= kSuspectSigmaRatio) continue;
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "stac_calib: warning: the %s readings fit %.3g times worse than their seed "
                   "sigma (%.3g -> %.3g %s): a wrong minimum, a sigma in the wrong unit, or "
                   "readings the model does not explain\n",
-                  groupName(static_cast<SensorGroup>(g)), ratio, seed.group_sigma[g],
+                  groupName(static_cast<SensorGroup>(g)), ratio, s.seed_group_sigma[g],
                   s.group_sigma[g], kGroupUnit[g]);
     std::cerr << buf;
   }
@@ -180,7 +177,7 @@ int run(const cli::Args& args) {
   options.ekf.theta_std_scale = args.getDouble("ekf-theta-std", options.ekf.theta_std_scale);
   options.ekf.iterations = args.getInt("ekf-iterations", options.ekf.iterations);
   const std::string qp = args.getChoice("q-phase", {"lm-iter", "lm-batch", "bfgs"}, "lm-iter");
-  options.q_phase = qp == "lm-batch" ? QPhaseMethod::kLmBatch
+  options.stac.q_phase = qp == "lm-batch" ? QPhaseMethod::kLmBatch
                     : qp == "bfgs"   ? QPhaseMethod::kBfgs
                                      : QPhaseMethod::kLmIter;
   options.max_iterations = args.getInt("max-iterations", options.max_iterations);
@@ -216,17 +213,6 @@ int run(const cli::Args& args) {
                                               : loadSensorsFile(sensors_path, robot);
   const Observations all =
       bindLog(log, sf.sensors, sensors_path.empty() ? log_path : sensors_path, mocap_scale);
-  if (options.method == Method::kClassical) {
-    const JointSources sources = findJointSources(robot, sf.sensors);
-    if (!sources.uncovered.empty()) {
-      std::string names;
-      for (const std::string& j : sources.uncovered) names += (names.empty() ? "" : ", ") + j;
-      throw InputError(sensors_path.empty() ? log_path : sensors_path,
-                       "--method classical reads every joint angle off a one-joint sensor, but "
-                       "these joints have none: " + names +
-                       " (tendon-spanned joints need --method stac)");
-    }
-  }
   if (!ekf_q_path.empty()) options.ekf.initial_q = firstJointAngles(readLog(ekf_q_path), robot);
   if (all.num_frames == 0) throw InputError(log_path, "the log has no data rows");
   // A time-block split: neighbouring frames are correlated, so the held-out
@@ -257,8 +243,13 @@ int run(const cli::Args& args) {
     };
   }
   RowMatrix q;
-  CalibrationResult result = calibrate(robot, sf.sensors, sf.theta, obs, options, &q);
-  result.summary.q_phase = options.method == Method::kStac ? qp : "";
+  CalibrationResult result;
+  try {
+    result = calibrate(robot, sf.sensors, sf.theta, obs, options, &q);
+  } catch (const std::invalid_argument& e) {
+    // Sensors the method cannot calibrate: name the file that defines them.
+    throw InputError(sensors_path.empty() ? log_path : sensors_path, e.what());
+  }
 
   // All outputs are complete in memory before the first is written.
   const std::string yaml = sensorsToYaml(result.sensors, result.theta, &result);
@@ -289,9 +280,8 @@ int run(const cli::Args& args) {
   if (!q_path.empty()) cli::writeLogOutput(q_path, q_log);
   if (!urdf_out.empty()) writeOutput(urdf_out, urdf_patch.urdf);
   if (!report_path.empty()) writeOutput(report_path, report);
-  const MeasurementModel model(robot, sf.sensors);
-  printSummary(robot, sf.sensors, sf.theta, result, model, output);
-  warnIfSuspect(sf.sensors, result.summary);
+  printSummary(robot, sf.sensors, sf.theta, result, output);
+  warnIfSuspect(result.summary);
   if (!urdf_out.empty()) {
     std::cout << "calibrated URDF written to " << urdf_out << ": " << urdf_patch.placed.size()
               << " marker link(s) on the calibrated markers\n";

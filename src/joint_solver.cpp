@@ -18,9 +18,10 @@
 #include <cmath>
 #include <memory>
 
+#include "methods/monolithic.hpp"
 #include "stac/calibrate.hpp"
-#include "stac/parallel.hpp"
-#include "stac/q_phase.hpp"
+#include "solve/parallel.hpp"
+#include "solve/q_phase.hpp"
 #include "stac/sensor_models.hpp"
 
 namespace stac {

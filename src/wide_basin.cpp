@@ -10,8 +10,8 @@
 
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
-#include "stac/schur.hpp"
-#include "stac/theta_phase.hpp"
+#include "solve/schur.hpp"
+#include "solve/theta_phase.hpp"
 
 namespace stac {
 namespace {

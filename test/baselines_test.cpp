@@ -14,9 +14,10 @@
 #include <random>
 
 #include "stac/calibrate.hpp"
-#include "stac/classical.hpp"
+#include "stac/theta_space.hpp"
+#include "methods/classical.hpp"
 #include "stac/error.hpp"
-#include "stac/frame_jacobian.hpp"
+#include "model/frame_jacobian.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
 #include "support/arm_files.hpp"
@@ -36,20 +37,24 @@ struct ParamError {
 
 ParamError paramError(const SensorSet& s, const SensorParameters& est,
                       const SensorParameters& truth) {
+  const ThetaSpace space(s);
+  const Eigen::VectorXd d = space.minus(est, truth);
   ParamError e;
-  e.rotation = Eigen::AngleAxisd(est.mocap.rotation * truth.mocap.rotation.inverse()).angle();
-  e.translation = (est.mocap.translation - truth.mocap.translation).norm();
+  e.rotation = d.segment<3>(ThetaSpace::kRotationOffset).norm();
+  e.translation = d.segment<3>(ThetaSpace::kTranslationOffset).norm();
   for (size_t m = 0; m < s.markers.size(); ++m)
-    e.marker = std::max(e.marker, (est.marker_position[m] - truth.marker_position[m]).norm());
+    e.marker = std::max(e.marker, d.segment<3>(space.markerOffset(static_cast<int>(m))).norm());
   for (size_t j = 0; j < s.joint_sensors.size(); ++j) {
-    const GainBias &a = est.joint_sensor[j], &b = truth.joint_sensor[j];
-    e.joint_gain = std::max(e.joint_gain, std::abs(a.gain - b.gain) / std::abs(b.gain));
-    e.joint_bias = std::max(e.joint_bias, std::abs(a.bias - b.bias) / std::abs(b.gain));
+    const int o = space.jointOffset(static_cast<int>(j));
+    const double g = std::abs(truth.joint_sensor[j].gain);
+    e.joint_gain = std::max(e.joint_gain, std::abs(d[o]) / g);
+    e.joint_bias = std::max(e.joint_bias, std::abs(d[o + 1]) / g);
   }
   for (size_t j = 0; j < s.tendon_sensors.size(); ++j) {
-    const GainBias &a = est.tendon_sensor[j], &b = truth.tendon_sensor[j];
-    e.tendon_gain = std::max(e.tendon_gain, std::abs(a.gain - b.gain) / std::abs(b.gain));
-    e.tendon_bias = std::max(e.tendon_bias, std::abs(a.bias - b.bias) / std::abs(b.gain));
+    const int o = space.tendonOffset(static_cast<int>(j));
+    const double g = std::abs(truth.tendon_sensor[j].gain);
+    e.tendon_gain = std::max(e.tendon_gain, std::abs(d[o]) / g);
+    e.tendon_bias = std::max(e.tendon_bias, std::abs(d[o + 1]) / g);
   }
   return e;
 }
@@ -154,10 +159,10 @@ TEST(FrameJacobian, DenseAssemblyMatchesCentralDifferences) {
       return d.r;
     };
     const double h = 1e-6;
-    for (int i = 0; i < model.thetaSize(); ++i) {
+    for (int i = 0; i < model.thetaSpace().size(); ++i) {
       SensorParameters plus = theta, minus = theta;
       auto nudge = [&](SensorParameters* t, double e) {
-        Eigen::VectorXd d = Eigen::VectorXd::Zero(model.thetaSize());
+        Eigen::VectorXd d = Eigen::VectorXd::Zero(model.thetaSpace().size());
         d[i] = e;
         const Eigen::Vector3d rot = d.head<3>();
         if (rot.norm() > 0)
@@ -165,21 +170,21 @@ TEST(FrameJacobian, DenseAssemblyMatchesCentralDifferences) {
                               t->mocap.rotation;
         t->mocap.translation += d.segment<3>(3);
         for (size_t m = 0; m < t->marker_position.size(); ++m)
-          t->marker_position[m] += d.segment<3>(model.markerOffset(static_cast<int>(m)));
+          t->marker_position[m] += d.segment<3>(model.thetaSpace().markerOffset(static_cast<int>(m)));
         for (size_t j = 0; j < t->joint_sensor.size(); ++j) {
-          t->joint_sensor[j].gain += d[model.jointOffset(static_cast<int>(j))];
-          t->joint_sensor[j].bias += d[model.jointOffset(static_cast<int>(j)) + 1];
+          t->joint_sensor[j].gain += d[model.thetaSpace().jointOffset(static_cast<int>(j))];
+          t->joint_sensor[j].bias += d[model.thetaSpace().jointOffset(static_cast<int>(j)) + 1];
         }
         for (size_t j = 0; j < t->tendon_sensor.size(); ++j) {
-          t->tendon_sensor[j].gain += d[model.tendonOffset(static_cast<int>(j))];
-          t->tendon_sensor[j].bias += d[model.tendonOffset(static_cast<int>(j)) + 1];
+          t->tendon_sensor[j].gain += d[model.thetaSpace().tendonOffset(static_cast<int>(j))];
+          t->tendon_sensor[j].bias += d[model.thetaSpace().tendonOffset(static_cast<int>(j)) + 1];
         }
       };
       nudge(&plus, h);
       nudge(&minus, -h);
       const Eigen::VectorXd fd = (residual(plus, q) - residual(minus, q)) / (2 * h);
       EXPECT_LT((fd - df.Jtheta.col(i)).norm(), 1e-5 * std::max(1.0, fd.norm()))
-          << model.thetaNames()[i];
+          << model.thetaSpace().names()[i];
     }
     for (int j = 0; j < model.dof(); ++j) {
       Eigen::VectorXd qp = q, qm = q;
@@ -227,7 +232,7 @@ TEST(Classical, FrameJacobianMatchesCentralDifferences) {
     return rr;
   };
   const double h = 1e-6;
-  for (int i = 0; i < model.thetaSize(); ++i) {
+  for (int i = 0; i < model.thetaSpace().size(); ++i) {
     auto nudged = [&](double e) {
       ClassicalParameters c = params;
       if (i < 3) {
@@ -236,20 +241,20 @@ TEST(Classical, FrameJacobianMatchesCentralDifferences) {
         c.theta.mocap.rotation = dq * c.theta.mocap.rotation;
       } else if (i < 6) {
         c.theta.mocap.translation[i - 3] += e;
-      } else if (i < model.jointOffset(0)) {
+      } else if (i < model.thetaSpace().jointOffset(0)) {
         c.theta.marker_position[(i - 6) / 3][(i - 6) % 3] += e;
-      } else if (i < model.tendonOffset(0)) {
-        const int s = (i - model.jointOffset(0)) / 2, k = (i - model.jointOffset(0)) % 2;
+      } else if (i < model.thetaSpace().tendonOffset(0)) {
+        const int s = (i - model.thetaSpace().jointOffset(0)) / 2, k = (i - model.thetaSpace().jointOffset(0)) % 2;
         if (sources.defining[s]) (k == 0 ? c.inverse[s].a : c.inverse[s].c) += e;
         else (k == 0 ? c.theta.joint_sensor[s].gain : c.theta.joint_sensor[s].bias) += e;
       } else {
-        const int s = (i - model.tendonOffset(0)) / 2, k = (i - model.tendonOffset(0)) % 2;
+        const int s = (i - model.thetaSpace().tendonOffset(0)) / 2, k = (i - model.thetaSpace().tendonOffset(0)) % 2;
         (k == 0 ? c.theta.tendon_sensor[s].gain : c.theta.tendon_sensor[s].bias) += e;
       }
       return c;
     };
     const Eigen::VectorXd fd = (residual(nudged(h)) - residual(nudged(-h))) / (2 * h);
-    EXPECT_LT((fd - J.col(i)).norm(), 1e-5 * std::max(1.0, fd.norm())) << model.thetaNames()[i];
+    EXPECT_LT((fd - J.col(i)).norm(), 1e-5 * std::max(1.0, fd.norm())) << model.thetaSpace().names()[i];
   }
   // (a, c) is the inverse of (gain, bias).
   const GainBias gb{-1.7, 0.4};

@@ -12,6 +12,7 @@
 #include <random>
 
 #include "stac/calibrate.hpp"
+#include "stac/theta_space.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
 #include "support/arm_files.hpp"
@@ -71,30 +72,34 @@ SensorParameters paperSeed(const SensorSet& s, const SensorParameters& truth) {
 bool closeToTruth(const SensorSet& s, const SensorParameters& truth, const CalibrationResult& r,
                   std::string* why) {
   const double k = 5.0;
-  auto off = [&](double est, double tru, double sd, const std::string& what) {
-    if (std::abs(est - tru) <= k * sd) return false;
-    *why = what + ": " + std::to_string(est) + " vs truth " + std::to_string(tru) + " (std " +
-           std::to_string(sd) + ")";
+  auto off = [&](double error, double sd, const std::string& what) {
+    if (std::abs(error) <= k * sd) return false;
+    *why = what + ": " + std::to_string(error) + " off the truth (std " + std::to_string(sd) + ")";
     return true;
   };
   if (!r.summary.unidentifiable.empty()) return *why = r.summary.unidentifiable[0].reason, false;
-  const double rot = Eigen::AngleAxisd(r.theta.mocap.rotation * truth.mocap.rotation.inverse()).angle();
-  if (off(rot, 0.0, r.std.mocap_rotation.norm(), "mocap rotation")) return false;
+  const ThetaSpace space(s);
+  const Eigen::VectorXd d = space.minus(r.theta, truth);
+  if (off(d.segment<3>(ThetaSpace::kRotationOffset).norm(), r.std.mocap_rotation.norm(),
+          "mocap rotation"))
+    return false;
   for (size_t m = 0; m < s.markers.size(); ++m)
     for (int i = 0; i < 3; ++i)
-      if (off(r.theta.marker_position[m][i], truth.marker_position[m][i],
-              r.std.marker_position[m][i], "marker " + s.markers[m].name))
+      if (off(d[space.markerOffset(static_cast<int>(m)) + i], r.std.marker_position[m][i],
+              "marker " + s.markers[m].name))
         return false;
   for (size_t j = 0; j < s.joint_sensors.size(); ++j) {
     const std::string n = "joint sensor " + s.joint_sensors[j].name;
-    if (off(r.theta.joint_sensor[j].gain, truth.joint_sensor[j].gain, r.std.joint_sensor[j].gain, n + " gain") ||
-        off(r.theta.joint_sensor[j].bias, truth.joint_sensor[j].bias, r.std.joint_sensor[j].bias, n + " bias"))
+    const int o = space.jointOffset(static_cast<int>(j));
+    if (off(d[o], r.std.joint_sensor[j].gain, n + " gain") ||
+        off(d[o + 1], r.std.joint_sensor[j].bias, n + " bias"))
       return false;
   }
   for (size_t j = 0; j < s.tendon_sensors.size(); ++j) {
     const std::string n = "tendon sensor " + s.tendon_sensors[j].name;
-    if (off(r.theta.tendon_sensor[j].gain, truth.tendon_sensor[j].gain, r.std.tendon_sensor[j].gain, n + " gain") ||
-        off(r.theta.tendon_sensor[j].bias, truth.tendon_sensor[j].bias, r.std.tendon_sensor[j].bias, n + " bias"))
+    const int o = space.tendonOffset(static_cast<int>(j));
+    if (off(d[o], r.std.tendon_sensor[j].gain, n + " gain") ||
+        off(d[o + 1], r.std.tendon_sensor[j].bias, n + " bias"))
       return false;
   }
   return true;

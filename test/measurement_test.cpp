@@ -8,8 +8,8 @@
 #include <random>
 
 #include "stac/measurement.hpp"
-#include "stac/q_phase.hpp"
-#include "stac/schur.hpp"
+#include "solve/q_phase.hpp"
+#include "solve/schur.hpp"
 #include "support/test_util.hpp"
 
 namespace stac {
@@ -113,7 +113,7 @@ void checkJacobians(const RobustLoss& loss, double obs_scale) {
     // Assemble dense analytic Jacobians.
     const Eigen::VectorXd r0 = residuals(model, s.theta, loss, s.obs, q);
     Eigen::MatrixXd Jq = Eigen::MatrixXd::Zero(r0.size(), model.dof());
-    Eigen::MatrixXd Jt = Eigen::MatrixXd::Zero(r0.size(), model.thetaSize());
+    Eigen::MatrixXd Jt = Eigen::MatrixXd::Zero(r0.size(), model.thetaSpace().size());
     int row = 0;
     for (int i = 0; i < ws.count; ++i) {
       const ReadingJacobian& rj = ws.readings[i];
@@ -131,15 +131,15 @@ void checkJacobians(const RobustLoss& loss, double obs_scale) {
                                   residuals(model, s.theta, loss, s.obs, qm)) / (2 * h);
       EXPECT_LT((fd - Jq.col(j)).norm(), 1e-6 * std::max(1.0, fd.norm())) << "q" << j;
     }
-    const std::vector<int> all = freeThetaIndex(model);
+    const std::vector<int>& all = model.thetaSpace().freeIndex();
     for (int k : all) {
       Eigen::VectorXd step = Eigen::VectorXd::Zero(all.size());
       step[k] = h;
       const Eigen::VectorXd fd =
-          (residuals(model, applyThetaStep(model, s.theta, all, step), loss, s.obs, q) -
-           residuals(model, applyThetaStep(model, s.theta, all, -step), loss, s.obs, q)) / (2 * h);
+          (residuals(model, model.thetaSpace().plusFree(s.theta, step), loss, s.obs, q) -
+           residuals(model, model.thetaSpace().plusFree(s.theta, -step), loss, s.obs, q)) / (2 * h);
       EXPECT_LT((fd - Jt.col(k)).norm(), 1e-6 * std::max(1.0, fd.norm()))
-          << model.thetaNames()[k];
+          << model.thetaSpace().names()[k];
     }
   }
 }

@@ -81,7 +81,7 @@ TEST(Stac, EveryQPhaseVariantConverges) {
   test::ArmProblem p = test::makeArmProblem(300, 5);
   for (QPhaseMethod m : {QPhaseMethod::kLmIter, QPhaseMethod::kLmBatch, QPhaseMethod::kBfgs}) {
     CalibrationOptions o = quietOptions();
-    o.q_phase = m;
+    o.stac.q_phase = m;
     CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
     EXPECT_TRUE(r.summary.converged) << static_cast<int>(m);
     expectWithinStd(p, r, 4.0);

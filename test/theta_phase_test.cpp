@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "stac/theta_phase.hpp"
+#include "solve/theta_phase.hpp"
 #include "support/arm_fixture.hpp"
 
 namespace stac {

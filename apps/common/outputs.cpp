@@ -53,45 +53,25 @@ void writeOutput(const std::string& path, const std::string& content) {
   }
 }
 
-std::vector<ParameterChange> largestChanges(const MeasurementModel& model,
+std::vector<ParameterChange> largestChanges(const ThetaSpace& space,
                                             const SensorParameters& before,
                                             const SensorParameters& after, int n) {
-  const SensorSet& s = model.sensors();
-  const Eigen::VectorXd scale = model.thetaScale(after);
+  const Eigen::VectorXd scale = space.scale(after);
+  const Eigen::VectorXd change = space.minus(after, before);
   std::vector<ParameterChange> all;
-  auto add = [&](const std::string& name, double b, double a, double sc) {
-    all.push_back({name, b, a, std::abs(a - b) / sc});
-  };
-  if (!s.markers.empty() && !s.mocap_frame_fixed) {
-    const double angle = Eigen::AngleAxisd(after.mocap.rotation * before.mocap.rotation.inverse()).angle();
-    add("mocap.frame.rotation (angle)", 0.0, angle, 1.0);
-    const char* axes[3] = {"x", "y", "z"};
-    for (int i = 0; i < 3; ++i)
-      add(std::string("mocap.frame.translation.") + axes[i], before.mocap.translation[i],
-          after.mocap.translation[i], scale[MeasurementModel::kTranslationOffset + i]);
-  }
-  const char* axes[3] = {"x", "y", "z"};
-  for (size_t m = 0; m < s.markers.size(); ++m) {
-    if (s.markers[m].fixed) continue;
-    for (int i = 0; i < 3; ++i)
-      add("markers." + s.markers[m].name + ".position." + axes[i], before.marker_position[m][i],
-          after.marker_position[m][i], scale[model.markerOffset(static_cast<int>(m)) + i]);
-  }
-  for (size_t j = 0; j < s.joint_sensors.size(); ++j) {
-    if (s.joint_sensors[j].fixed) continue;
-    const int o = model.jointOffset(static_cast<int>(j));
-    add("joint_sensors." + s.joint_sensors[j].name + ".gain", before.joint_sensor[j].gain,
-        after.joint_sensor[j].gain, scale[o]);
-    add("joint_sensors." + s.joint_sensors[j].name + ".bias", before.joint_sensor[j].bias,
-        after.joint_sensor[j].bias, scale[o + 1]);
-  }
-  for (size_t j = 0; j < s.tendon_sensors.size(); ++j) {
-    if (s.tendon_sensors[j].fixed) continue;
-    const int o = model.tendonOffset(static_cast<int>(j));
-    add("tendon_sensors." + s.tendon_sensors[j].name + ".gain", before.tendon_sensor[j].gain,
-        after.tendon_sensor[j].gain, scale[o]);
-    add("tendon_sensors." + s.tendon_sensors[j].name + ".bias", before.tendon_sensor[j].bias,
-        after.tendon_sensor[j].bias, scale[o + 1]);
+  bool rotation_listed = false;
+  for (int i : space.freeIndex()) {
+    const ThetaEntry e = space.entry(i);
+    if (e.block == ThetaBlock::kMocapRotation) {
+      // One entry for the turn: its components depend on the axes chosen.
+      if (rotation_listed) continue;
+      rotation_listed = true;
+      const double angle = change.segment<3>(ThetaSpace::kRotationOffset).norm();
+      all.push_back({"mocap.frame.rotation (angle)", 0.0, angle, angle});
+      continue;
+    }
+    all.push_back({space.names()[i], space.value(before, i), space.value(after, i),
+                   std::abs(change[i]) / scale[i]});
   }
   std::stable_sort(all.begin(), all.end(),
                    [](const ParameterChange& a, const ParameterChange& b) { return a.score > b.score; });

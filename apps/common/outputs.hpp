@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "stac/log.hpp"
-#include "stac/measurement.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/sensors.hpp"
+#include "stac/theta_space.hpp"
 
 namespace stac::cli {
 
@@ -28,7 +28,7 @@ struct ParameterChange {
   double score = 0;  // |after - before| in the parameter's typical units
 };
 // The n parameters whose values changed most between two θ.
-std::vector<ParameterChange> largestChanges(const MeasurementModel& model,
+std::vector<ParameterChange> largestChanges(const ThetaSpace& space,
                                             const SensorParameters& before,
                                             const SensorParameters& after, int n);
 

@@ -8,6 +8,7 @@
 
 #include "common/outputs.hpp"
 #include "stac/simulate.hpp"
+#include "stac/theta_space.hpp"
 
 namespace stac::experiments {
 
@@ -32,16 +33,10 @@ RowMatrix randomPoses(const RobotModel& robot, int frames, std::mt19937_64& rng)
   return q;
 }
 
-namespace {
-
-double rotationAngle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
-  return Eigen::AngleAxisd((a * b.conjugate()).normalized()).angle();
-}
-
-}  // namespace
-
 ParameterScore scoreParameters(const SensorSet& sensors, const SensorParameters& est,
                                const SensorParameters& truth) {
+  const ThetaSpace space(sensors);
+  const Eigen::VectorXd d = space.minus(est, truth);
   ParameterScore s;
   double sum = 0;
   auto add = [&](double relative, bool diverged) {
@@ -50,27 +45,29 @@ ParameterScore scoreParameters(const SensorSet& sensors, const SensorParameters&
     ++s.count;
   };
   if (!sensors.markers.empty() && !sensors.mocap_frame_fixed) {
-    const double dt = (est.mocap.translation - truth.mocap.translation).norm();
+    const double dt = d.segment<3>(ThetaSpace::kTranslationOffset).norm();
     add(dt / std::max(truth.mocap.translation.norm(), 0.1), dt > 0.02);
-    const double angle = rotationAngle(est.mocap.rotation, truth.mocap.rotation);
+    const double angle = d.segment<3>(ThetaSpace::kRotationOffset).norm();
     add(angle, angle > 0.1);
   }
   for (size_t m = 0; m < sensors.markers.size(); ++m) {
     if (sensors.markers[m].fixed) continue;
-    const double d = (est.marker_position[m] - truth.marker_position[m]).norm();
-    add(d / std::max(truth.marker_position[m].norm(), 0.01), d > 0.02);
+    const double dm = d.segment<3>(space.markerOffset(static_cast<int>(m))).norm();
+    add(dm / std::max(truth.marker_position[m].norm(), 0.01), dm > 0.02);
   }
-  auto gainBias = [&](const GainBias& e, const GainBias& t, double bias_threshold) {
-    const double g = std::abs(e.gain - t.gain) / std::abs(t.gain);
+  // Gains relative, biases in the sensed quantity's unit (bias / |gain|).
+  auto gainBias = [&](int o, const GainBias& t, double bias_threshold) {
+    const double g = std::abs(d[o]) / std::abs(t.gain);
     add(g, g > 0.1);
-    const double b = std::abs(e.bias - t.bias) / std::abs(t.gain);
+    const double b = std::abs(d[o + 1]) / std::abs(t.gain);
     add(b, b > bias_threshold);
   };
   for (size_t j = 0; j < sensors.joint_sensors.size(); ++j)
-    if (!sensors.joint_sensors[j].fixed) gainBias(est.joint_sensor[j], truth.joint_sensor[j], 0.1);
+    if (!sensors.joint_sensors[j].fixed)
+      gainBias(space.jointOffset(static_cast<int>(j)), truth.joint_sensor[j], 0.1);
   for (size_t j = 0; j < sensors.tendon_sensors.size(); ++j)
     if (!sensors.tendon_sensors[j].fixed)
-      gainBias(est.tendon_sensor[j], truth.tendon_sensor[j], 0.005);
+      gainBias(space.tendonOffset(static_cast<int>(j)), truth.tendon_sensor[j], 0.005);
   s.mean_relative_error = s.count > 0 ? sum / s.count : 0.0;
   return s;
 }

@@ -58,13 +58,13 @@ std::string runFig6(const Context& context) {
     if (context.smoke && v.pipeline) continue;
     const std::string& name = v.name;
     CalibrationOptions options;
-    options.q_phase = v.method;
+    options.stac.q_phase = v.method;
     options.threads = context.threads;
     options.max_iterations = context.smoke ? 4 : 100;
     if (!v.pipeline) {
       // The paper's plain alternation, for a fixed number of iterations.
-      options.wide_basin_init = false;
-      options.coupled_steps = false;
+      options.stac.wide_basin_init = false;
+      options.stac.coupled_steps = false;
       options.tolerance = 0.0;
     }
     svg::Series err{name, {}, {}}, rms{name, {}, {}};

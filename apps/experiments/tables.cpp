@@ -22,7 +22,6 @@
 #include "experiments/run.hpp"
 #include "common/svg.hpp"
 #include "stac/calibrate.hpp"
-#include "stac/classical.hpp"
 #include "stac/evaluate.hpp"
 #include "stac/measurement.hpp"
 #include "stac/simulate.hpp"
@@ -162,17 +161,17 @@ std::string runTables(const Context& context) {
       add("stac σp→0", r.theta, sensors);
     }
     std::string classical_note;
-    const JointSources sources = findJointSources(bot.robot, sensors);
-    if (sources.uncovered.empty()) {
-      CalibrationOptions co = options;
-      co.method = Method::kClassical;
+    CalibrationOptions co = options;
+    co.method = Method::kClassical;
+    try {
       const CalibrationResult classical = calibrate(bot.robot, sensors, manual, train, co);
       progressLine(context, "tables: " + name + " classical calibrated in " +
                                 fmt(classical.summary.wall_time, "%.3g") + " s");
       add("classical", classical.theta, classical.sensors);
-    } else {
-      classical_note = "\nclassical (σp = 0): not applicable, " + std::to_string(sources.uncovered.size()) +
-                       " joints have no one-joint sensor (e.g. " + sources.uncovered.front() + ").\n";
+    } catch (const std::invalid_argument& e) {
+      // A joint without a one-joint sensor (e.g. tendon-driven): σp = 0
+      // cannot read its angle.
+      classical_note = std::string("\nclassical (σp = 0): not applicable: ") + e.what() + ".\n";
     }
 
     Table t;

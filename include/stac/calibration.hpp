@@ -47,6 +47,7 @@ struct CalibrationSummary {
   int frames = 0;
   double wall_time = 0.0;    // seconds
   double group_sigma[kNumSensorGroups] = {0, 0, 0};
+  double seed_group_sigma[kNumSensorGroups] = {0, 0, 0};  // the same at the seed σ
   bool group_present[kNumSensorGroups] = {false, false, false};
   // RMS residual per group in raw units: with the seed θ (each q_t fitted
   // to it) and after calibration.

@@ -12,6 +12,8 @@
 
 namespace stac {
 
+class RobotModel;
+
 using RowMatrix =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -62,5 +64,11 @@ Observations sliceFrames(const Observations& obs, int begin, int end);
 // count >= frames), and the observations of such a subset.
 std::vector<int> spreadFrames(int frames, int count);
 Observations selectFrames(const Observations& obs, const std::vector<int>& frames);
+
+// The first row of a joint-angles log (as written by --joint-angles) as q:
+// the log's columns must be exactly the joints of q, in any order. Throws
+// InputError naming the log and line for an unknown or missing joint, an
+// empty log or a missing value.
+Eigen::VectorXd firstJointAngles(const Log& log, const RobotModel& robot);
 
 }  // namespace stac

@@ -3,11 +3,8 @@
 // with its Jacobians with respect to q_t and to θ.
 //
 // MeasurementModel is built once from a RobotModel and a SensorSet (both must
-// outlive it): it resolves which q columns each sensor depends on and lays
-// out θ as one vector for the uncertainty and monolithic solvers:
-//   [mocap rotation δ (3, left perturbation) | mocap translation (3) |
-//    marker positions (3 each) | joint sensors (gain, bias) |
-//    tendon sensors (gain, bias)]
+// outlive it): it resolves which q columns each sensor depends on; θ's
+// layout (the columns of dr/dθ) is its ThetaSpace's (theta_space.hpp).
 // FrameWorkspace holds every per-thread buffer; evaluation never allocates.
 #pragma once
 
@@ -20,6 +17,8 @@
 #include "stac/log.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/sensors.hpp"
+#include "stac/solver_options.hpp"
+#include "stac/theta_space.hpp"
 
 namespace ceres {
 class LossFunction;
@@ -31,9 +30,12 @@ namespace stac {
 struct NoiseModel {
   std::vector<double> marker, joint, tendon;
   static NoiseModel fromSeeds(const SensorSet& sensors);
+  double sigma(SensorGroup group, int sensor) const {
+    return group == SensorGroup::kMarker  ? marker[sensor]
+           : group == SensorGroup::kJoint ? joint[sensor]
+                                          : tendon[sensor];
+  }
 };
-
-enum class LossKind { kNone, kHuber, kCauchy };
 
 // A robust loss ρ(s) on the squared whitened residual s of one reading
 // (Ceres's convention: ρ(s) = s for small s). Owns a Ceres loss so that the
@@ -74,20 +76,8 @@ class MeasurementModel {
   const std::vector<int>& jointColumns(int s) const { return joint_cols_[s]; }
   const std::vector<int>& tendonColumns(int s) const { return tendon_cols_[s]; }
 
-  // θ layout.
-  int thetaSize() const { return theta_size_; }
-  static constexpr int kRotationOffset = 0;
-  static constexpr int kTranslationOffset = 3;
-  int markerOffset(int m) const { return 6 + 3 * m; }
-  int jointOffset(int s) const { return joint_offset_ + 2 * s; }
-  int tendonOffset(int s) const { return tendon_offset_ + 2 * s; }
-  // Human names, e.g. "markers.m_head.position.x", "joint_sensors.p.bias".
-  const std::vector<std::string>& thetaNames() const { return theta_names_; }
-  // False where the parameter is held fixed (or there are no markers).
-  const std::vector<bool>& thetaFree() const { return theta_free_; }
-  // A typical magnitude per θ entry, to compare parameters of different
-  // units (metres, radians, volts) when judging identifiability.
-  Eigen::VectorXd thetaScale(const SensorParameters& theta) const;
+  // θ's layout: the columns of every dr/dθ.
+  const ThetaSpace& thetaSpace() const { return theta_space_; }
 
  private:
   const RobotModel* robot_;
@@ -95,9 +85,7 @@ class MeasurementModel {
   int num_sensors_ = 0;
   std::vector<std::vector<int>> marker_cols_, joint_cols_, tendon_cols_;
   std::vector<std::vector<int>> marker_slots_;
-  int joint_offset_ = 0, tendon_offset_ = 0, theta_size_ = 0;
-  std::vector<std::string> theta_names_;
-  std::vector<bool> theta_free_;
+  ThetaSpace theta_space_;
 };
 
 // One reading's whitened (and robustified) residual and Jacobians.

@@ -38,7 +38,4 @@ UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
                                              const SensorParameters& theta,
                                              const Eigen::MatrixXd& S);
 
-// Copies per-θ-entry standard deviations into the per-sensor structure.
-ParameterStd toParameterStd(const MeasurementModel& model, const Eigen::VectorXd& std);
-
 }  // namespace stac

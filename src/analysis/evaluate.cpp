@@ -13,8 +13,9 @@
 #include "stac/file_io.hpp"
 #include "stac/kinematics.hpp"
 #include "stac/measurement.hpp"
-#include "stac/parallel.hpp"
-#include "stac/q_phase.hpp"
+#include "stac/theta_space.hpp"
+#include "solve/parallel.hpp"
+#include "solve/q_phase.hpp"
 
 namespace stac {
 
@@ -161,31 +162,24 @@ EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& se
   return result;
 }
 
-std::vector<ParameterError> compareToTruth(const SensorSet& sensors,
-                                           const SensorParameters& theta,
-                                           const SensorSet& truth_sensors,
-                                           const SensorParameters& truth,
-                                           const std::string& truth_source) {
-  // Names in the truth, per group, to their index.
+namespace {
+
+// The truth's sensors, matched by name, in the estimate's layout; throws
+// InputError(truth_source, ...) naming what does not match.
+SensorParameters alignTruth(const SensorSet& sensors, const SensorSet& truth_sensors,
+                            const SensorParameters& truth, const std::string& truth_source) {
   std::map<std::string, int> truth_index[kNumSensorGroups];
   for (int g = 0; g < kNumSensorGroups; ++g)
     for (int i = 0; i < groupSize(truth_sensors, g); ++i)
       truth_index[g][sensorName(truth_sensors, g, i)] = i;
-
   std::vector<std::string> missing, extra, mismatched;
-  std::vector<ParameterError> out;
-  if (!sensors.markers.empty()) {
-    if (truth_sensors.markers.empty()) {
-      missing.push_back("the mocap frame (no markers)");
-    } else {
-      out.push_back({"mocap.translation",
-                     (theta.mocap.translation - truth.mocap.translation).norm(), "m"});
-      out.push_back({"mocap.rotation",
-                     Eigen::AngleAxisd(theta.mocap.rotation * truth.mocap.rotation.inverse())
-                         .angle(),
-                     "rad"});
-    }
-  }
+  if (!sensors.markers.empty() && truth_sensors.markers.empty())
+    missing.push_back("the mocap frame (no markers)");
+  SensorParameters aligned;
+  aligned.mocap = truth.mocap;
+  aligned.marker_position.resize(sensors.markers.size());
+  aligned.joint_sensor.resize(sensors.joint_sensors.size());
+  aligned.tendon_sensor.resize(sensors.tendon_sensors.size());
   for (int g = 0; g < kNumSensorGroups; ++g) {
     for (int i = 0; i < groupSize(sensors, g); ++i) {
       const std::string& name = sensorName(sensors, g, i);
@@ -198,27 +192,18 @@ std::vector<ParameterError> compareToTruth(const SensorSet& sensors,
       truth_index[g].erase(it);
       switch (static_cast<SensorGroup>(g)) {
         case SensorGroup::kMarker:
-          if (sensors.markers[i].link != truth_sensors.markers[k].link) {
+          if (sensors.markers[i].link != truth_sensors.markers[k].link)
             mismatched.push_back(name + " (link " + sensors.markers[i].link_name + " vs " +
                                  truth_sensors.markers[k].link_name + ")");
-            continue;
-          }
-          out.push_back({name + ".position",
-                         (theta.marker_position[i] - truth.marker_position[k]).norm(), "m"});
+          aligned.marker_position[i] = truth.marker_position[k];
           break;
         case SensorGroup::kJoint:
-          if (sensors.joint_sensors[i].joint != truth_sensors.joint_sensors[k].joint) {
+          if (sensors.joint_sensors[i].joint != truth_sensors.joint_sensors[k].joint)
             mismatched.push_back(name + " (joint " + sensors.joint_sensors[i].joint_name +
                                  " vs " + truth_sensors.joint_sensors[k].joint_name + ")");
-            continue;
-          }
-          out.push_back({name + ".gain", theta.joint_sensor[i].gain - truth.joint_sensor[k].gain, ""});
-          out.push_back({name + ".bias", theta.joint_sensor[i].bias - truth.joint_sensor[k].bias, ""});
+          aligned.joint_sensor[i] = truth.joint_sensor[k];
           break;
-        case SensorGroup::kTendon:
-          out.push_back({name + ".gain", theta.tendon_sensor[i].gain - truth.tendon_sensor[k].gain, ""});
-          out.push_back({name + ".bias", theta.tendon_sensor[i].bias - truth.tendon_sensor[k].bias, ""});
-          break;
+        case SensorGroup::kTendon: aligned.tendon_sensor[i] = truth.tendon_sensor[k]; break;
       }
     }
     for (const auto& [name, k] : truth_index[g]) extra.push_back(name);
@@ -238,6 +223,37 @@ std::vector<ParameterError> compareToTruth(const SensorSet& sensors,
                join(mismatched);
   if (!problem.empty())
     throw InputError(truth_source, "the truth does not match the calibrated sensors: " + problem);
+  return aligned;
+}
+
+}  // namespace
+
+std::vector<ParameterError> compareToTruth(const SensorSet& sensors,
+                                           const SensorParameters& theta,
+                                           const SensorSet& truth_sensors,
+                                           const SensorParameters& truth,
+                                           const std::string& truth_source) {
+  const ThetaSpace space(sensors);
+  const Eigen::VectorXd d =
+      space.minus(theta, alignTruth(sensors, truth_sensors, truth, truth_source));
+  std::vector<ParameterError> out;
+  if (!sensors.markers.empty()) {
+    out.push_back({"mocap.translation", d.segment<3>(ThetaSpace::kTranslationOffset).norm(), "m"});
+    out.push_back({"mocap.rotation", d.segment<3>(ThetaSpace::kRotationOffset).norm(), "rad"});
+  }
+  for (size_t m = 0; m < sensors.markers.size(); ++m)
+    out.push_back({sensors.markers[m].name + ".position",
+                   d.segment<3>(space.markerOffset(static_cast<int>(m))).norm(), "m"});
+  for (size_t j = 0; j < sensors.joint_sensors.size(); ++j) {
+    const int o = space.jointOffset(static_cast<int>(j));
+    out.push_back({sensors.joint_sensors[j].name + ".gain", d[o], ""});
+    out.push_back({sensors.joint_sensors[j].name + ".bias", d[o + 1], ""});
+  }
+  for (size_t j = 0; j < sensors.tendon_sensors.size(); ++j) {
+    const int o = space.tendonOffset(static_cast<int>(j));
+    out.push_back({sensors.tendon_sensors[j].name + ".gain", d[o], ""});
+    out.push_back({sensors.tendon_sensors[j].name + ".bias", d[o + 1], ""});
+  }
   return out;
 }
 

@@ -11,7 +11,7 @@
 
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
-#include "stac/q_phase.hpp"
+#include "solve/q_phase.hpp"
 
 namespace stac {
 
@@ -22,9 +22,6 @@ struct ReducedSystem {
   Eigen::VectorXd H_diag;         // diag(H_θθ) before damping
   double cost = 0;                // ½ Σ ρ at the linearisation point
 };
-
-// The free θ entries (MeasurementModel::thetaFree) in order.
-std::vector<int> freeThetaIndex(const MeasurementModel& model);
 
 // Frames are summed in this many fixed blocks of consecutive frames
 // (independent of the thread count, so sums are deterministic).
@@ -43,11 +40,6 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               std::vector<FrameWorkspace>* ws,
                               const EvalOptions& groups = EvalOptions(),
                               const FrameVisitor& visit = nullptr);
-
-// θ ⊕ δ for a step over the free entries (rotation as a left perturbation).
-SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParameters& theta,
-                                const std::vector<int>& free_index,
-                                const Eigen::VectorXd& delta);
 
 // One coupled LM step on (q, θ): tries damping *lambda (adapting it) until
 // the total cost decreases; returns the new cost, or the old one (state

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "stac/calibrate.hpp"
-#include "stac/parallel.hpp"
-#include "stac/q_phase.hpp"
+#include "solve/parallel.hpp"
+#include "solve/q_phase.hpp"
 #include "wide_basin.hpp"
 
 namespace stac {

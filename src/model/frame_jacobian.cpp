@@ -1,4 +1,4 @@
-#include "stac/frame_jacobian.hpp"
+#include "model/frame_jacobian.hpp"
 
 namespace stac {
 
@@ -12,7 +12,7 @@ void denseFrame(const MeasurementModel& model, const FrameWorkspace& ws,
     if (!skipped(ws.readings[i])) rows += ws.readings[i].rows;
   out->rows = rows;
   out->r.resize(rows);
-  out->Jtheta.setZero(rows, model.thetaSize());
+  out->Jtheta.setZero(rows, model.thetaSpace().size());
   out->Jq.setZero(rows, model.dof());
   int row = 0;
   for (int i = 0; i < ws.count; ++i) {

@@ -1,10 +1,11 @@
-#include "stac/schur.hpp"
+#include "solve/schur.hpp"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
-#include "stac/parallel.hpp"
+#include "solve/lm_damping.hpp"
+#include "solve/parallel.hpp"
 
 namespace stac {
 namespace {
@@ -47,18 +48,8 @@ void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
   }
 }
 
-void dampQ(double lambda, Eigen::MatrixXd* H) {
-  const double eps = 1e-12 * std::max(1.0, H->diagonal().maxCoeff());
-  for (int i = 0; i < H->rows(); ++i) (*H)(i, i) += lambda * (*H)(i, i) + eps;
-}
+void dampQ(double lambda, Eigen::MatrixXd* H) { addDamping(lambda, *H, H); }
 }  // namespace
-
-std::vector<int> freeThetaIndex(const MeasurementModel& model) {
-  std::vector<int> idx;
-  for (int i = 0; i < model.thetaSize(); ++i)
-    if (model.thetaFree()[i]) idx.push_back(i);
-  return idx;
-}
 
 ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParameters& theta,
                               const NoiseModel& noise, const RobustLoss& loss,
@@ -67,12 +58,12 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               std::vector<FrameWorkspace>* ws, const EvalOptions& groups,
                               const FrameVisitor& visit) {
   ReducedSystem out;
-  out.free_index = freeThetaIndex(model);
-  const int nf = static_cast<int>(out.free_index.size());
+  const ThetaSpace& space = model.thetaSpace();
+  out.free_index = space.freeIndex();
+  const int nf = space.freeSize();
   const int dof = model.dof();
   const int T = obs.num_frames;
-  std::vector<int> free_of(model.thetaSize(), -1);
-  for (int i = 0; i < nf; ++i) free_of[out.free_index[i]] = i;
+  const std::vector<int>& free_of = space.freePosition();
   std::vector<Eigen::MatrixXd> bS(kBlocks, Eigen::MatrixXd::Zero(nf, nf)), bH(kBlocks);
   std::vector<Eigen::VectorXd> bg(kBlocks, Eigen::VectorXd::Zero(nf));
   std::vector<double> bcost(kBlocks, 0.0);
@@ -117,31 +108,6 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
   // system damps S's own diagonal instead (a standard choice).
   out.S = out.S.selfadjointView<Eigen::Lower>();
   out.H_diag = out.S.diagonal();
-  return out;
-}
-
-SensorParameters applyThetaStep(const MeasurementModel& model, const SensorParameters& theta,
-                                const std::vector<int>& free_index,
-                                const Eigen::VectorXd& delta) {
-  Eigen::VectorXd full = Eigen::VectorXd::Zero(model.thetaSize());
-  for (size_t i = 0; i < free_index.size(); ++i) full[free_index[i]] = delta[i];
-  SensorParameters out = theta;
-  const Eigen::Vector3d w = full.segment<3>(MeasurementModel::kRotationOffset);
-  if (w.norm() > 0)
-    out.mocap.rotation =
-        (Eigen::Quaterniond(Eigen::AngleAxisd(w.norm(), w.normalized())) * theta.mocap.rotation)
-            .normalized();
-  out.mocap.translation += full.segment<3>(MeasurementModel::kTranslationOffset);
-  for (size_t m = 0; m < out.marker_position.size(); ++m)
-    out.marker_position[m] += full.segment<3>(model.markerOffset(static_cast<int>(m)));
-  for (size_t s = 0; s < out.joint_sensor.size(); ++s) {
-    out.joint_sensor[s].gain += full[model.jointOffset(static_cast<int>(s))];
-    out.joint_sensor[s].bias += full[model.jointOffset(static_cast<int>(s)) + 1];
-  }
-  for (size_t s = 0; s < out.tendon_sensor.size(); ++s) {
-    out.tendon_sensor[s].gain += full[model.tendonOffset(static_cast<int>(s))];
-    out.tendon_sensor[s].bias += full[model.tendonOffset(static_cast<int>(s)) + 1];
-  }
   return out;
 }
 
@@ -209,10 +175,9 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
   const int dof = model.dof();
   const int T = obs.num_frames;
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
-  const std::vector<int> free_index = freeThetaIndex(model);
-  const int nf = static_cast<int>(free_index.size());
-  std::vector<int> free_of(model.thetaSize(), -1);
-  for (int i = 0; i < nf; ++i) free_of[free_index[i]] = i;
+  const ThetaSpace& space = model.thetaSpace();
+  const int nf = space.freeSize();
+  const std::vector<int>& free_of = space.freePosition();
   Eigen::VectorXd lower, upper;
   widenedLimits(model.robot(), &lower, &upper);
   // The reduced curvature S costs O(dof·nf²) per frame, the rest O(dof²):
@@ -245,13 +210,11 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     }
     if (old_cost < 0) old_cost = rs.cost;
     Eigen::MatrixXd A = rs.S;
-    const double eps = 1e-12 * std::max(1.0, A.diagonal().maxCoeff());
-    for (int i = 0; i < nf; ++i) A(i, i) += *lambda * rs.H_diag[i] + eps;
+    addDamping(*lambda, rs.S, &A);  // rs.S's diagonal is rs.H_diag
     const Eigen::VectorXd dtheta = nf > 0 ? Eigen::VectorXd(A.ldlt().solve(-rs.g))
                                           : Eigen::VectorXd();
     if (!dtheta.allFinite()) return old_cost;
-    Eigen::VectorXd dfull = Eigen::VectorXd::Zero(model.thetaSize());
-    for (int i = 0; i < nf; ++i) dfull[free_index[i]] = dtheta[i];
+    const Eigen::VectorXd dfull = space.expandFree(dtheta);
     // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ),
     // with H_qθ Δθ = Σ J_qᵀ (J_θ Δθ) over the readings.
     RowMatrix q_new = state->q;
@@ -284,17 +247,17 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                              : (qt + dq).transpose().eval();
       }
     });
-    const SensorParameters theta_new = applyThetaStep(model, *theta, free_index, dtheta);
+    const SensorParameters theta_new = space.plus(*theta, dfull);
     QState trial;
     trial.q = q_new;
     const double c = totalCost(model, theta_new, noise, loss, obs, groups, threads, ws, &trial);
     if (c < old_cost) {
       *theta = theta_new;
       state->q = std::move(q_new);
-      *lambda = std::max(*lambda / 3.0, 1e-9);
+      *lambda = acceptedStep(kCoupledSchedule, *lambda);
       return c;
     }
-    *lambda = std::min(*lambda * 8.0, 1e8);
+    *lambda = rejectedStep(kCoupledSchedule, *lambda);
   }
   return old_cost;
 }

@@ -1,10 +1,11 @@
-#include "stac/q_phase.hpp"
+#include "solve/q_phase.hpp"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
-#include "stac/parallel.hpp"
+#include "solve/lm_damping.hpp"
+#include "solve/parallel.hpp"
 
 namespace stac {
 
@@ -134,9 +135,8 @@ struct FrameSolver {
   // Solves (H + λ D + ε I) step = -g; D = diag(H) keeps LM scale-invariant,
   // ε keeps joints that no reading sees at their current value.
   void solveDamped(double lambda) {
-    const int n = static_cast<int>(g.size());
-    const double eps = 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
     if (!options.frozen.empty()) {
+      const double eps = ridge(H.diagonal());
       // Frozen columns: the system of the free ones only (often a few).
       const int k = static_cast<int>(free_cols.size());
       for (int a = 0; a < k; ++a) {
@@ -152,7 +152,7 @@ struct FrameSolver {
       return;
     }
     A = H;
-    for (int i = 0; i < n; ++i) A(i, i) += lambda * H(i, i) + eps;
+    addDamping(lambda, H, &A);
     Eigen::LLT<Eigen::MatrixXd> llt(A);
     step = llt.solve(-g);
     if (llt.info() != Eigen::Success || !step.allFinite()) step.setZero();
@@ -177,7 +177,7 @@ struct FrameSolver {
           const double rel = (cost - c) / std::max(cost, 1e-300);
           q = q_new;
           cost = c;
-          *lambda = std::max(*lambda / 3.0, 1e-10);
+          *lambda = acceptedStep(kFrameSchedule, *lambda);
           improved = true;
           ++accepted;
           if (max_accepted > 1 &&
@@ -185,7 +185,7 @@ struct FrameSolver {
             accepted = max_accepted;
           break;
         }
-        *lambda = std::min(*lambda * 4.0, 1e12);
+        *lambda = rejectedStep(kFrameSchedule, *lambda);
       }
       if (!improved) break;
       if (accepted < max_accepted) cost = eval(fr, q, true, ws);

@@ -5,7 +5,7 @@
 // Each LM iteration sums the normal equations H = Σ JᵀJ, g = Σ Jᵀr over the
 // usable frames (in fixed blocks, so the sums do not depend on the thread
 // count) and solves (H + λ diag H) δ = -g over the free entries.
-#include "stac/classical.hpp"
+#include "methods/classical.hpp"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -13,11 +13,14 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "stac/calibrate.hpp"
-#include "stac/frame_jacobian.hpp"
-#include "stac/parallel.hpp"
-#include "stac/uncertainty.hpp"
-#include "wide_basin.hpp"
+#include "methods/method.hpp"
+#include "solve/pass.hpp"
+#include "solve/statistics.hpp"
+#include "model/frame_jacobian.hpp"
+#include "solve/lm_damping.hpp"
+#include "solve/noise_adaptation.hpp"
+#include "solve/parallel.hpp"
+#include "solve/uncertainty.hpp"
 
 namespace stac {
 
@@ -99,7 +102,7 @@ bool classicalFrame(const MeasurementModel& model, const JointSources& sources,
     const int s = sources.sensor[j];
     const double p = readings.joint[s];
     const double m = robot.movableJoints()[sensors.joint_sensors[s].joint].multiplier;
-    const int o = model.jointOffset(s);
+    const int o = model.thetaSpace().jointOffset(s);
     J->col(o) += df.Jq.col(j) * (p / m);
     J->col(o + 1) += df.Jq.col(j) / m;
   }
@@ -108,47 +111,23 @@ bool classicalFrame(const MeasurementModel& model, const JointSources& sources,
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr int kBlocks = 16;  // fixed summation blocks: thread-count independent
 
-// β -> β ⊞ δ (full θ layout; zero where not free).
-ClassicalParameters retract(const MeasurementModel& model, const JointSources& sources,
+// β -> β ⊞ δ (full θ layout; zero where not free): θ's own entries by the θ
+// space, the (a, c) held in the slots of defining joint sensors added here.
+ClassicalParameters retract(const ThetaSpace& space, const JointSources& sources,
                             const ClassicalParameters& p, const Eigen::VectorXd& delta) {
   ClassicalParameters out = p;
-  const Eigen::Vector3d d = delta.segment<3>(MeasurementModel::kRotationOffset);
-  if (d.norm() > 0)
-    out.theta.mocap.rotation =
-        (Eigen::Quaterniond(Eigen::AngleAxisd(d.norm(), d.normalized())) * p.theta.mocap.rotation)
-            .normalized();
-  out.theta.mocap.translation += delta.segment<3>(MeasurementModel::kTranslationOffset);
-  const SensorSet& s = model.sensors();
-  for (size_t m = 0; m < s.markers.size(); ++m)
-    out.theta.marker_position[m] += delta.segment<3>(model.markerOffset(static_cast<int>(m)));
-  for (size_t j = 0; j < s.joint_sensors.size(); ++j) {
-    const int o = model.jointOffset(static_cast<int>(j));
-    if (sources.defining[j]) {
-      out.inverse[j].a += delta[o];
-      out.inverse[j].c += delta[o + 1];
-    } else {
-      out.theta.joint_sensor[j].gain += delta[o];
-      out.theta.joint_sensor[j].bias += delta[o + 1];
-    }
+  Eigen::VectorXd theta_delta = delta;
+  for (size_t j = 0; j < sources.defining.size(); ++j) {
+    if (!sources.defining[j]) continue;
+    const int o = space.jointOffset(static_cast<int>(j));
+    out.inverse[j].a += delta[o];
+    out.inverse[j].c += delta[o + 1];
+    theta_delta[o] = theta_delta[o + 1] = 0.0;
   }
-  for (size_t j = 0; j < s.tendon_sensors.size(); ++j) {
-    const int o = model.tendonOffset(static_cast<int>(j));
-    out.theta.tendon_sensor[j].gain += delta[o];
-    out.theta.tendon_sensor[j].bias += delta[o + 1];
-  }
+  out.theta = space.plus(p.theta, theta_delta);
   return out;
-}
-
-double sigmaOf(const NoiseModel& noise, const ReadingJacobian& rj) {
-  switch (rj.group) {
-    case SensorGroup::kMarker: return noise.marker[rj.sensor];
-    case SensorGroup::kJoint: return noise.joint[rj.sensor];
-    case SensorGroup::kTendon: return noise.tendon[rj.sensor];
-  }
-  return 1.0;
 }
 
 // One pass over the usable frames.
@@ -166,9 +145,8 @@ class Regression {
  public:
   Regression(const MeasurementModel& model, const JointSources& sources,
              const Observations& obs, const RobustLoss& loss, int threads)
-      : model_(model), sources_(sources), obs_(obs), loss_(loss), threads_(threads) {
-    for (int i = 0; i < model.thetaSize(); ++i)
-      if (model.thetaFree()[i]) free_.push_back(i);
+      : model_(model), sources_(sources), obs_(obs), loss_(loss), threads_(threads),
+        free_(model.thetaSpace().freeIndex()) {
     for (int i = 0; i < threads; ++i) ws_.emplace_back(model);
   }
   const std::vector<int>& freeIndex() const { return free_; }
@@ -195,7 +173,8 @@ class Regression {
           const ReadingJacobian& rj = w.readings[i];
           if (rj.group == SensorGroup::kJoint && sources_.defining[rj.sensor]) continue;
           const int g = static_cast<int>(rj.group);
-          const double sigma = sigmaOf(noise, rj), ratio = sigma / sigmaOf(seed_noise, rj);
+          const double sigma = noise.sigma(rj.group, rj.sensor);
+          const double ratio = sigma / seed_noise.sigma(rj.group, rj.sensor);
           out.sse[g] += rj.s * sigma * sigma;
           out.wsse[g] += rj.weight * rj.s * ratio * ratio;
           out.rows[g] += rj.rows;
@@ -237,31 +216,28 @@ class Regression {
     Pass cur = pass(*p, noise, seed_noise, true);
     double lambda = 1e-4;
     int it = 0;
-    Eigen::VectorXd delta_full = Eigen::VectorXd::Zero(model_.thetaSize());
     while (it < options.max_iterations) {
       ++it;
       bool accepted = false;
       double rel = 0;
       for (int attempt = 0; attempt < 12 && !accepted; ++attempt) {
         Eigen::MatrixXd A = cur.H;
-        const double eps = 1e-12 * std::max(1.0, cur.H.diagonal().maxCoeff());
-        for (int i = 0; i < nf; ++i) A(i, i) += lambda * cur.H(i, i) + eps;
+        addDamping(lambda, cur.H, &A);
         const Eigen::VectorXd step = A.ldlt().solve(-cur.g);
         if (!step.allFinite()) {
-          lambda *= 10;
+          lambda = rejectedStep(kRegressionSchedule, lambda);
           continue;
         }
-        delta_full.setZero();
-        for (int i = 0; i < nf; ++i) delta_full[free_[i]] = step[i];
-        const ClassicalParameters trial = retract(model_, sources_, *p, delta_full);
+        const ClassicalParameters trial = retract(model_.thetaSpace(), sources_, *p,
+                                                  model_.thetaSpace().expandFree(step));
         const Pass next = pass(trial, noise, seed_noise, false);
         if (std::isfinite(next.cost) && next.cost < cur.cost) {
           rel = (cur.cost - next.cost) / std::max(cur.cost, 1e-300);
           *p = trial;
-          lambda = std::max(lambda / 3.0, 1e-12);
+          lambda = acceptedStep(kRegressionSchedule, lambda);
           accepted = true;
         } else {
-          lambda = std::min(lambda * 4.0, 1e12);
+          lambda = rejectedStep(kRegressionSchedule, lambda);
         }
       }
       if (!accepted) {
@@ -270,16 +246,11 @@ class Regression {
       }
       cur = pass(*p, noise, seed_noise, true);
       if (options.progress) {
-        IterationReport r;
-        r.iteration = first_iteration + it;
-        r.cost = cur.cost;
-        for (int g = 0; g < kNumSensorGroups; ++g) {
-          r.present[g] = cur.count[g] > 0;
-          r.rms[g] = cur.count[g] > 0 ? std::sqrt(cur.sse[g] / cur.count[g]) : 0.0;
-        }
-        r.elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-        r.stage = "classical";
-        options.progress(r);
+        PassStats report;
+        report.cost = cur.cost;
+        std::copy(cur.sse, cur.sse + kNumSensorGroups, report.sse);
+        std::copy(cur.count, cur.count + kNumSensorGroups, report.count);
+        options.progress(makeReport(first_iteration + it, report, start, "classical"));
       }
       if (rel < options.tolerance) {
         *converged = true;
@@ -298,7 +269,7 @@ class Regression {
   const Observations& obs_;
   const RobustLoss& loss_;
   int threads_;
-  std::vector<int> free_;
+  const std::vector<int>& free_;
   std::vector<FrameWorkspace> ws_;
   Pass last_;
 };
@@ -309,123 +280,79 @@ std::string joinNames(const std::vector<std::string>& v) {
   return s;
 }
 
-}  // namespace
-
-CalibrationResult calibrateClassical(const RobotModel& robot, const SensorSet& sensors,
-                                     const SensorParameters& seed, const Observations& obs,
-                                     const CalibrationOptions& options,
-                                     RowMatrix* joint_angles) {
-  std::string error;
-  if (!options.isValid(&error)) throw std::invalid_argument(error);
-  if (obs.num_frames < 1) throw std::invalid_argument("the log has no frames");
-  const JointSources sources = findJointSources(robot, sensors);
-  if (!sources.uncovered.empty())
-    throw std::invalid_argument(
-        "the classical regression reads every joint angle off a one-joint sensor, but no joint "
-        "sensor is on: " + joinNames(sources.uncovered) +
-        " (use --method stac, which also handles tendon-only joints)");
-  const Clock::time_point start = Clock::now();
-  const MeasurementModel model(robot, sensors);
-  const NoiseModel seed_noise = NoiseModel::fromSeeds(sensors);
-  NoiseModel noise = seed_noise;
-  const RobustLoss loss(options.loss, options.loss_scale);
-  const int threads = resolveThreads(options.threads);
-  const int J = static_cast<int>(sensors.joint_sensors.size());
-
-  // Frames where every defining reading is present; the rest are skipped.
+// Frames where every defining reading is present; the rest are skipped.
+std::vector<int> usableFrames(const Observations& obs, const JointSources& sources) {
   std::vector<int> usable;
+  const int J = static_cast<int>(sources.defining.size());
   for (int t = 0; t < obs.num_frames; ++t) {
     bool ok = true;
     for (int j = 0; j < J && ok; ++j) ok = !(sources.defining[j] && std::isnan(obs.joint(t, j)));
     if (ok) usable.push_back(t);
   }
-  if (usable.empty())
-    throw std::invalid_argument("no frame has every joint sensor's reading");
-  const Observations used = selectFrames(obs, usable);
+  if (usable.empty()) throw std::invalid_argument("no frame has every joint sensor's reading");
+  return usable;
+}
 
-  ClassicalParameters p;
-  p.theta = seed;
-  p.inverse.resize(J);
-  for (int j = 0; j < J; ++j)
-    if (sources.defining[j]) p.inverse[j] = inverseMap(seed.joint_sensor[j]);
-
-  CalibrationResult result;
-  CalibrationSummary& summary = result.summary;
-  summary.method = "classical";
-  summary.frames = used.num_frames;
-  fittedResidualRms(model, seed, noise, loss, obs,
-                    neutralPose(robot).transpose().replicate(obs.num_frames, 1), threads,
-                    summary.before_rms);
-
-  Regression reg(model, sources, used, loss, threads);
-  // Variance adaptation (paper §III-E) between solves: one σ scale per
-  // group of fitted readings. With one group only, σ does not move the
-  // optimum, so one solve suffices.
-  double kappa[kNumSensorGroups] = {1, 1, 1};
-  int iterations = 0;
-  bool converged = false;
+// Solves, with variance adaptation (paper §III-E) between solves: one σ
+// scale per group of fitted readings. With one group only, σ does not move
+// the optimum, so one solve suffices. Returns the iterations.
+int solveAdapting(const MethodInput& in, const JointSources& sources, Regression* reg,
+                  ClassicalParameters* p, GroupScales* scales, NoiseModel* noise,
+                  bool* converged) {
+  const NoiseModel& seed_noise = in.problem.seed_noise;
   int groups = 0;
   {
-    const Pass first = reg.pass(p, noise, seed_noise, false);
-    summary.initial_cost = first.cost;
+    const Pass first = reg->pass(*p, *noise, seed_noise, false);
     for (int g = 0; g < kNumSensorGroups; ++g) groups += first.count[g] > 0;
   }
-  const int n_free = static_cast<int>(reg.freeIndex().size());
+  const int n_free = static_cast<int>(reg->freeIndex().size());
+  int iterations = 0;
   for (int round = 0; round < 5; ++round) {
-    iterations += reg.solve(noise, seed_noise, options, start, iterations, &p, &converged);
-    if (!options.adapt_variance) break;
-    const Pass& st = reg.last();
+    iterations += reg->solve(*noise, seed_noise, in.options, in.start, iterations, p, converged);
+    if (!in.options.adapt_variance) break;
+    const Pass& st = reg->last();
     double total_rows = 0;
     for (int g = 0; g < kNumSensorGroups; ++g) total_rows += st.rows[g];
     // Each group's share of the fitted parameters' degrees of freedom.
     const double keep = total_rows > n_free ? 1.0 - n_free / total_rows : 1.0;
-    double change = 0;
+    GroupResiduals residuals;
     for (int g = 0; g < kNumSensorGroups; ++g) {
-      if (st.rows[g] == 0) continue;
-      const double k = std::max(std::sqrt(st.wsse[g] / (st.rows[g] * keep)), 1e-9);
-      change = std::max(change, std::abs(k - kappa[g]) / kappa[g]);
-      kappa[g] = k;
+      residuals.wsse[g] = st.wsse[g];
+      residuals.dofs[g] = st.rows[g] * keep;
     }
-    noise = seed_noise;
-    for (double& s : noise.marker) s *= kappa[0];
-    for (size_t j = 0; j < noise.joint.size(); ++j)
-      if (!sources.defining[j]) noise.joint[j] *= kappa[1];
-    for (double& s : noise.tendon) s *= kappa[2];
+    const double change = updateScales(residuals, false, scales);
+    *noise = scaledNoise(seed_noise, *scales, &sources.defining);
     if (groups <= 1 || change < 1e-3) break;
   }
-  // Statistics at the final σ.
-  const Pass fin = reg.pass(p, noise, seed_noise, true);
+  return iterations;
+}
 
-  // Back to (gain, bias) and the information in MeasurementModel's layout:
-  // (a, c) = (1/g, -b/g), so d(a, c)/d(g, b) = [[-1/g², 0], [b/g², -1/g]].
-  SensorParameters theta = p.theta;
-  const std::vector<int>& free = reg.freeIndex();
-  Eigen::MatrixXd Tgb = Eigen::MatrixXd::Identity(free.size(), free.size());
-  for (int j = 0; j < J; ++j) {
+// Back to (gain, bias) and the information in θ's layout: (a, c) = (1/g,
+// -b/g), so d(a, c)/d(g, b) = [[-1/g², 0], [b/g², -1/g]].
+UncertaintyResult toGainBias(const MeasurementModel& model, const JointSources& sources,
+                             const ClassicalParameters& p, const Eigen::MatrixXd& H,
+                             SensorParameters* theta) {
+  const ThetaSpace& space = model.thetaSpace();
+  *theta = p.theta;
+  Eigen::MatrixXd Tgb = Eigen::MatrixXd::Identity(space.freeSize(), space.freeSize());
+  for (size_t j = 0; j < sources.defining.size(); ++j) {
     if (!sources.defining[j]) continue;
-    theta.joint_sensor[j] = forwardMap(p.inverse[j]);
-    const auto it = std::find(free.begin(), free.end(), model.jointOffset(j));
-    if (it == free.end()) continue;  // fixed sensor
-    const int k = static_cast<int>(it - free.begin());
-    const double g = theta.joint_sensor[j].gain, b = theta.joint_sensor[j].bias;
+    theta->joint_sensor[j] = forwardMap(p.inverse[j]);
+    const int k = space.freePosition()[space.jointOffset(static_cast<int>(j))];
+    if (k < 0) continue;  // fixed sensor
+    const double g = theta->joint_sensor[j].gain, b = theta->joint_sensor[j].bias;
     Tgb(k, k) = -1.0 / (g * g);
     Tgb(k + 1, k) = b / (g * g);
     Tgb(k + 1, k + 1) = -1.0 / g;
   }
-  const Eigen::MatrixXd info = Tgb.transpose() * fin.H * Tgb;
-  const UncertaintyResult unc = uncertaintyFromInformation(model, theta, info);
+  const Eigen::MatrixXd info = Tgb.transpose() * H * Tgb;
+  return uncertaintyFromInformation(model, *theta, info);
+}
 
-  result.sensors = sensors;
-  for (size_t m = 0; m < sensors.markers.size(); ++m)
-    result.sensors.markers[m].sigma = noise.marker[m];
-  for (int j = 0; j < J; ++j) result.sensors.joint_sensors[j].sigma = noise.joint[j];
-  for (size_t j = 0; j < sensors.tendon_sensors.size(); ++j)
-    result.sensors.tendon_sensors[j].sigma = noise.tendon[j];
-  if (!sensors.markers.empty()) result.sensors.mocap_sigma = sensors.mocap_sigma * kappa[0];
-  result.theta = theta;
-  result.std = toParameterStd(model, unc.std);
-
-  // q from the sensors for every frame (NaN where a reading is missing).
+// q from the sensors for every frame (NaN where a reading is missing).
+RowMatrix anglesOfEveryFrame(const RobotModel& robot, const SensorSet& sensors,
+                             const JointSources& sources, const ClassicalParameters& p,
+                             const Observations& obs) {
   RowMatrix q(obs.num_frames, robot.dof());
   for (int t = 0; t < obs.num_frames; ++t)
     for (int j = 0; j < robot.dof(); ++j) {
@@ -433,22 +360,51 @@ CalibrationResult calibrateClassical(const RobotModel& robot, const SensorSet& s
       const MovableJoint& mj = robot.movableJoints()[sensors.joint_sensors[s].joint];
       q(t, j) = (p.inverse[s].a * obs.joint(t, s) + p.inverse[s].c - mj.offset) / mj.multiplier;
     }
-  RowMatrix q_used(used.num_frames, robot.dof());
-  for (int k = 0; k < used.num_frames; ++k) q_used.row(k) = q.row(usable[k]);
-  residualStatistics(model, theta, used, q_used, threads, &result);
+  return q;
+}
 
-  summary.iterations = iterations;
-  summary.converged = converged;
-  summary.final_cost = fin.cost;
+}  // namespace
+
+Outcome runClassical(const MethodInput& in) {
+  const Problem& problem = in.problem;
+  const MeasurementModel& model = problem.model;
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  const JointSources sources = findJointSources(robot, sensors);
+  if (!sources.uncovered.empty())
+    throw std::invalid_argument(
+        "the classical regression reads every joint angle off a one-joint sensor, but no joint "
+        "sensor is on: " + joinNames(sources.uncovered) +
+        " (use --method stac, which also handles tendon-only joints)");
+  Outcome out;
+  out.fitted_frames = usableFrames(problem.obs, sources);
+  out.defining_joint = sources.defining;
+  const Observations used = selectFrames(problem.obs, out.fitted_frames);
+
+  ClassicalParameters p;
+  p.theta = in.seed;
+  p.inverse.resize(sensors.joint_sensors.size());
+  for (size_t j = 0; j < sensors.joint_sensors.size(); ++j)
+    if (sources.defining[j]) p.inverse[j] = inverseMap(in.seed.joint_sensor[j]);
+  fittedResidualRms(problem, in.seed,
+                    neutralPose(robot).transpose().replicate(problem.obs.num_frames, 1),
+                    out.before_rms);
+
+  Regression reg(model, sources, used, problem.loss, problem.threads);
+  GroupScales scales;
+  NoiseModel noise = problem.seed_noise;
+  out.initial_cost = reg.pass(p, noise, problem.seed_noise, false).cost;
+  out.iterations = solveAdapting(in, sources, &reg, &p, &scales, &noise, &out.converged);
+  // Statistics at the final σ.
+  const Pass fin = reg.pass(p, noise, problem.seed_noise, true);
+  out.final_cost = fin.cost;
   for (int g = 0; g < kNumSensorGroups; ++g)
-    summary.after_rms[g] = fin.count[g] > 0 ? std::sqrt(fin.sse[g] / fin.count[g]) : 0.0;
-  summary.unidentifiable = unc.unidentifiable;
-  // Defining joint sensors have σ_p -> 0 by construction (their seed σ is
-  // kept in the sensors so the file feeds back); report the others'.
-  summariseGroupNoise(sensors, noise, &summary, &sources.defining);
-  summary.wall_time = std::chrono::duration<double>(Clock::now() - start).count();
-  if (joint_angles) *joint_angles = q;
-  return result;
+    out.after_rms[g] = fin.count[g] > 0 ? std::sqrt(fin.sse[g] / fin.count[g]) : 0.0;
+  out.uncertainty = toGainBias(model, sources, p, fin.H, &out.theta);
+  out.q = anglesOfEveryFrame(robot, sensors, sources, p, problem.obs);
+  out.noise = noise;
+  out.marker_scale = scales.kappa[0];
+  return out;
 }
 
 }  // namespace stac

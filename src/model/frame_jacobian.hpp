@@ -19,7 +19,7 @@ namespace stac {
 
 struct DenseFrame {
   Eigen::VectorXd r;
-  Eigen::MatrixXd Jtheta;  // rows x model.thetaSize()
+  Eigen::MatrixXd Jtheta;  // rows x model.thetaSpace().size()
   Eigen::MatrixXd Jq;      // rows x model.dof()
   int rows = 0;
 };

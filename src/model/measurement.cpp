@@ -43,7 +43,7 @@ ceres::LossFunction* RobustLoss::makeCeresLoss() const {
 }
 
 MeasurementModel::MeasurementModel(const RobotModel& robot, const SensorSet& sensors)
-    : robot_(&robot), sensors_(&sensors) {
+    : robot_(&robot), sensors_(&sensors), theta_space_(sensors) {
   for (const MarkerConfig& m : sensors.markers) {
     marker_cols_.push_back(marker_sensor::columns(robot, m.link));
     const std::vector<int>& cols = marker_cols_.back();
@@ -59,55 +59,6 @@ MeasurementModel::MeasurementModel(const RobotModel& robot, const SensorSet& sen
     tendon_cols_.push_back(tendon_sensor::columns(robot, s));
   num_sensors_ = static_cast<int>(sensors.markers.size() + sensors.joint_sensors.size() +
                                   sensors.tendon_sensors.size());
-
-  const bool frame_free = !sensors.markers.empty() && !sensors.mocap_frame_fixed;
-  for (const char* axis : {"x", "y", "z"}) {
-    theta_names_.push_back(std::string("mocap.frame.rotation.") + axis);
-    theta_free_.push_back(frame_free);
-  }
-  for (const char* axis : {"x", "y", "z"}) {
-    theta_names_.push_back(std::string("mocap.frame.translation.") + axis);
-    theta_free_.push_back(frame_free);
-  }
-  for (const MarkerConfig& m : sensors.markers)
-    for (const char* axis : {"x", "y", "z"}) {
-      theta_names_.push_back("markers." + m.name + ".position." + axis);
-      theta_free_.push_back(!m.fixed);
-    }
-  joint_offset_ = static_cast<int>(theta_names_.size());
-  for (const JointSensorConfig& s : sensors.joint_sensors)
-    for (const char* p : {"gain", "bias"}) {
-      theta_names_.push_back("joint_sensors." + s.name + "." + p);
-      theta_free_.push_back(!s.fixed);
-    }
-  tendon_offset_ = static_cast<int>(theta_names_.size());
-  for (const TendonSensorConfig& s : sensors.tendon_sensors)
-    for (const char* p : {"gain", "bias"}) {
-      theta_names_.push_back("tendon_sensors." + s.name + "." + p);
-      theta_free_.push_back(!s.fixed);
-    }
-  theta_size_ = static_cast<int>(theta_names_.size());
-}
-
-Eigen::VectorXd MeasurementModel::thetaScale(const SensorParameters& theta) const {
-  // Rotations in radians and positions in metres are compared through the
-  // robot's size; a gain through the typical magnitude of its own value.
-  Eigen::VectorXd scale = Eigen::VectorXd::Ones(theta_size_);
-  for (int i = 0; i < 3; ++i) scale[kRotationOffset + i] = 0.1;  // ~6 degrees
-  for (int i = 0; i < 3; ++i) scale[kTranslationOffset + i] = 0.1;
-  for (size_t m = 0; m < sensors_->markers.size(); ++m)
-    scale.segment<3>(markerOffset(static_cast<int>(m))).setConstant(0.01);
-  for (size_t s = 0; s < sensors_->joint_sensors.size(); ++s) {
-    const double g = std::max(std::abs(theta.joint_sensor[s].gain), 1e-3);
-    scale[jointOffset(static_cast<int>(s))] = 0.1 * g;
-    scale[jointOffset(static_cast<int>(s)) + 1] = 0.1 * g;  // bias ~ gain * 0.1 rad
-  }
-  for (size_t s = 0; s < sensors_->tendon_sensors.size(); ++s) {
-    const double g = std::max(std::abs(theta.tendon_sensor[s].gain), 1e-3);
-    scale[tendonOffset(static_cast<int>(s))] = 0.1 * g;
-    scale[tendonOffset(static_cast<int>(s)) + 1] = 0.01 * g;
-  }
-  return scale;
 }
 
 FrameReadings frameReadings(const Observations& obs, int t) {
@@ -176,6 +127,7 @@ double evaluateFrame(const MeasurementModel& model, const SensorParameters& thet
                      const EvalOptions& options, FrameWorkspace* ws) {
   const RobotModel& robot = model.robot();
   const SensorSet& sensors = model.sensors();
+  const ThetaSpace& space = model.thetaSpace();
   forwardKinematics(robot, q, &ws->kin);
   const bool jac = options.jacobians;
   const bool tjac = options.theta_jacobians;
@@ -216,11 +168,11 @@ double evaluateFrame(const MeasurementModel& model, const SensorParameters& thet
       }
       rj.theta_count = 0;
       if (tjac) {
-        const int mo = model.markerOffset(static_cast<int>(m));
+        const int mo = space.markerOffset(static_cast<int>(m));
         rj.theta_count = 9;
         for (int i = 0; i < 3; ++i) {
-          rj.theta_index[i] = MeasurementModel::kRotationOffset + i;
-          rj.theta_index[3 + i] = MeasurementModel::kTranslationOffset + i;
+          rj.theta_index[i] = ThetaSpace::kRotationOffset + i;
+          rj.theta_index[3 + i] = ThetaSpace::kTranslationOffset + i;
           rj.theta_index[6 + i] = mo + i;
         }
         rj.Jtheta.block<3, 3>(0, 0) = inv * marker_sensor::rotationJacobian(R, xb);
@@ -252,7 +204,7 @@ double evaluateFrame(const MeasurementModel& model, const SensorParameters& thet
       rj.theta_count = 0;
       if (tjac) {
         rj.theta_count = 2;
-        rj.theta_index[0] = model.jointOffset(static_cast<int>(s));
+        rj.theta_index[0] = space.jointOffset(static_cast<int>(s));
         rj.theta_index[1] = rj.theta_index[0] + 1;
         rj.Jtheta(0, 0) = inv * a;
         rj.Jtheta(0, 1) = inv;
@@ -287,7 +239,7 @@ double evaluateFrame(const MeasurementModel& model, const SensorParameters& thet
       rj.theta_count = 0;
       if (tjac) {
         rj.theta_count = 2;
-        rj.theta_index[0] = model.tendonOffset(static_cast<int>(s));
+        rj.theta_index[0] = space.tendonOffset(static_cast<int>(s));
         rj.theta_index[1] = rj.theta_index[0] + 1;
         rj.Jtheta(0, 0) = inv * L;
         rj.Jtheta(0, 1) = inv;

@@ -1,10 +1,10 @@
-#include "stac/theta_phase.hpp"
+#include "solve/theta_phase.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
 #include <cmath>
 
-#include "stac/parallel.hpp"
+#include "solve/parallel.hpp"
 #include "stac/sensor_models.hpp"
 
 namespace stac {

@@ -29,15 +29,12 @@
 #include <string>
 #include <vector>
 
-#include "stac/calibration.hpp"
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/sensors.hpp"
 
 namespace stac {
-
-struct CalibrationOptions;
 
 // Which joint sensor gives each joint angle.
 struct JointSources {
@@ -80,19 +77,5 @@ bool classicalFrame(const MeasurementModel& model, const JointSources& sources,
                     const ClassicalParameters& params, const NoiseModel& noise,
                     const RobustLoss& loss, const FrameReadings& readings,
                     FrameWorkspace* ws, Eigen::VectorXd* r, Eigen::MatrixXd* J);
-
-// Runs the regression (calibrate() dispatches here for Method::kClassical).
-// Uses max_iterations (LM iterations per solve), tolerance (relative cost
-// decrease), threads, loss, adapt_variance (one σ per group of the fitted
-// readings, re-estimated between solves) and progress (one report per LM
-// iteration). Throws
-// std::invalid_argument naming the uncovered joints if some joint has no
-// one-joint sensor. joint_angles receives q from the sensors (NaN where a
-// defining reading is missing). std from (JᵀJ)⁻¹ of the whitened residuals;
-// unidentifiable directions by uncertaintyFromInformation().
-CalibrationResult calibrateClassical(const RobotModel& robot, const SensorSet& sensors,
-                                     const SensorParameters& seed, const Observations& obs,
-                                     const CalibrationOptions& options,
-                                     RowMatrix* joint_angles = nullptr);
 
 }  // namespace stac

@@ -18,7 +18,7 @@
 
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
-#include "stac/q_phase.hpp"
+#include "solve/q_phase.hpp"
 
 namespace stac {
 

@@ -10,12 +10,6 @@
 
 namespace stac {
 
-enum class QPhaseMethod {
-  kLmIter,   // one accepted Levenberg-Marquardt step per frame (paper LM-iter)
-  kLmBatch,  // LM to convergence per frame (paper LM-batch)
-  kBfgs,     // BFGS per frame, Gauss-Newton-scaled start (paper §VI-A)
-};
-
 struct QPhaseOptions {
   QPhaseMethod method = QPhaseMethod::kLmIter;
   int max_steps = 30;       // per frame, for lm-batch and bfgs

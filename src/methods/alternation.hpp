@@ -1,0 +1,53 @@
+// The STAC alternation (paper §II-C, §III-D, §III-E) with per-group variance
+// adaptation, and the start every alternating or monolithic run shares.
+#pragma once
+
+#include <functional>
+
+#include "methods/method.hpp"
+#include "solve/pass.hpp"
+
+namespace stac {
+
+// adaptNoise on a pass, then the pass scored again at the new σ; returns the
+// largest relative change of a group's σ.
+double adaptAndRescore(const Problem& problem, State* s, Workspaces* ws, PassStats* st);
+
+// A pass at the current σ; with `adapt`, σ re-estimated from it and the pass
+// re-scored at the new σ.
+PassStats adaptedPass(const Problem& problem, State* s, bool adapt, Workspaces* ws);
+
+struct LoopOutcome {
+  PassStats st;
+  int iterations = 0;
+  bool converged = false;
+};
+
+// The alternation from `st` (the last pass at the current σ) until the
+// relative cost decrease is below options.tolerance and σ has settled. Once
+// it stalls (or from the start with `coupled`), coupled Gauss-Newton steps
+// (every q_t eliminated per frame, schur.hpp), which converge fast where q
+// and θ are strongly coupled and the alternation would crawl. `report` sees
+// every iteration.
+LoopOutcome stacIterations(const Problem& problem, const CalibrationOptions& options,
+                           bool coupled, PassStats st, State* s, Workspaces* ws,
+                           const std::function<void(int, const PassStats&)>& report);
+
+// The start of a run: the seed, or the wide-basin initialisation on a
+// subsample (solved there first when `presolve`), every frame's q_t from
+// its initialised neighbours; progress reported as iteration 0.
+struct Start {
+  State state;
+  PassStats st;               // the last pass at the start's σ
+  bool coupled = false;       // the subsample converged: go straight to coupled steps
+  double initial_cost = 0;    // at the seed
+  double before_rms[kNumSensorGroups] = {0, 0, 0};
+};
+Start startRun(const MethodInput& in, bool presolve, Workspaces* ws);
+
+// The outcome of a run from `start` whose state ended at final_pass
+// (iterations and convergence left to the caller); moves start->state.
+Outcome finishRun(const Problem& problem, Start* start, const PassStats& final_pass,
+                  Workspaces* ws);
+
+}  // namespace stac

@@ -1,0 +1,70 @@
+// calibrate(): validates, builds the problem once, runs the chosen method
+// (method.hpp) and builds its result.
+#include "stac/calibrate.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "methods/method.hpp"
+#include "solve/parallel.hpp"
+
+namespace stac {
+
+bool CalibrationOptions::isValid(std::string* error) const {
+  auto fail = [&](const std::string& e) {
+    if (error) *error = e;
+    return false;
+  };
+  if (max_iterations < 1) return fail("max_iterations must be at least 1");
+  if (!(tolerance >= 0) || !std::isfinite(tolerance))
+    return fail("tolerance must be a finite number >= 0");
+  if (threads < 0) return fail("threads must be >= 0 (0 = all cores)");
+  if (!(loss_scale > 0) || !std::isfinite(loss_scale))
+    return fail("loss scale must be positive and finite");
+  if (method == Method::kEkf && !ekf.isValid(error)) return false;
+  return true;
+}
+
+const char* qPhaseName(QPhaseMethod m) {
+  switch (m) {
+    case QPhaseMethod::kLmIter: return "lm-iter";
+    case QPhaseMethod::kLmBatch: return "lm-batch";
+    case QPhaseMethod::kBfgs: return "bfgs";
+  }
+  return "";
+}
+
+Eigen::VectorXd neutralPose(const RobotModel& robot) {
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(robot.dof());
+  for (int i = 0; i < robot.dof(); ++i)
+    q[i] = std::clamp(0.0, robot.lowerLimits()[i], robot.upperLimits()[i]);
+  return q;
+}
+
+CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
+                            const SensorParameters& seed, const Observations& obs,
+                            const CalibrationOptions& given, RowMatrix* joint_angles,
+                            const RowMatrix* q0) {
+  std::string error;
+  if (!given.isValid(&error)) throw std::invalid_argument(error);
+  if (obs.num_frames < 1) throw std::invalid_argument("the log has no frames");
+  CalibrationOptions options = given;
+  // The EKF starts from one q: q0's first row unless its own is given.
+  if (options.method == Method::kEkf && q0 && options.ekf.initial_q.size() == 0)
+    options.ekf.initial_q = q0->row(0).transpose();
+  const Clock::time_point start = Clock::now();
+  const MeasurementModel model(robot, sensors);
+  const NoiseModel seed_noise = NoiseModel::fromSeeds(sensors);
+  const RobustLoss loss(options.loss, options.loss_scale);
+  const Problem problem{model, obs, seed_noise, loss, resolveThreads(options.threads)};
+  const MethodInput in{problem, seed, options, start, q0};
+  switch (options.method) {
+    case Method::kStac: return makeResult(in, runStac(in), joint_angles);
+    case Method::kJoint: return makeResult(in, runMonolithic(in), joint_angles);
+    case Method::kEkf: return makeResult(in, runEkf(in), joint_angles);
+    case Method::kClassical: return makeResult(in, runClassical(in), joint_angles);
+  }
+  throw std::invalid_argument("unknown method");
+}
+
+}  // namespace stac

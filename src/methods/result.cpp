@@ -1,0 +1,80 @@
+// The one place that turns a method's Outcome into a CalibrationResult.
+#include <algorithm>
+#include <chrono>
+
+#include "methods/method.hpp"
+#include "solve/pass.hpp"
+#include "solve/statistics.hpp"
+
+namespace stac {
+namespace {
+
+const char* methodName(Method m) {
+  switch (m) {
+    case Method::kStac: return "stac";
+    case Method::kJoint: return "joint";
+    case Method::kEkf: return "ekf";
+    case Method::kClassical: return "classical";
+  }
+  return "";
+}
+
+// The sensors with their final σ (the marker group's κ also on mocap.sigma,
+// the default of markers without their own).
+SensorSet withFinalNoise(const SensorSet& sensors, const Outcome& out) {
+  SensorSet s = sensors;
+  for (size_t m = 0; m < s.markers.size(); ++m) s.markers[m].sigma = out.noise.marker[m];
+  for (size_t j = 0; j < s.joint_sensors.size(); ++j) s.joint_sensors[j].sigma = out.noise.joint[j];
+  for (size_t j = 0; j < s.tendon_sensors.size(); ++j)
+    s.tendon_sensors[j].sigma = out.noise.tendon[j];
+  if (!s.markers.empty()) s.mocap_sigma = sensors.mocap_sigma * out.marker_scale;
+  return s;
+}
+
+}  // namespace
+
+CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* joint_angles) {
+  const Problem& problem = in.problem;
+  const MeasurementModel& model = problem.model;
+  CalibrationResult result;
+  result.sensors = withFinalNoise(model.sensors(), out);
+  result.theta = out.theta;
+  result.std = model.thetaSpace().toParameterStd(out.uncertainty.std);
+  // Statistics over the frames the method fitted.
+  const bool all = out.fitted_frames.empty();
+  const Observations subset = all ? Observations() : selectFrames(problem.obs, out.fitted_frames);
+  const Observations& fitted = all ? problem.obs : subset;
+  RowMatrix fitted_q;
+  if (!all) {
+    fitted_q.resize(static_cast<Eigen::Index>(out.fitted_frames.size()), model.dof());
+    for (size_t k = 0; k < out.fitted_frames.size(); ++k)
+      fitted_q.row(k) = out.q.row(out.fitted_frames[k]);
+  }
+  const RowMatrix& q = all ? out.q : fitted_q;
+  residualStatistics(model, result.theta, fitted, q, problem.threads, &result);
+
+  CalibrationSummary& summary = result.summary;
+  summary.method = methodName(in.options.method);
+  if (in.options.method == Method::kStac) summary.q_phase = qPhaseName(in.options.stac.q_phase);
+  summary.iterations = out.iterations;
+  summary.converged = out.converged;
+  summary.initial_cost = out.initial_cost;
+  summary.final_cost = out.final_cost;
+  summary.frames = fitted.num_frames;
+  std::copy(out.before_rms, out.before_rms + kNumSensorGroups, summary.before_rms);
+  std::copy(out.after_rms, out.after_rms + kNumSensorGroups, summary.after_rms);
+  summary.unidentifiable = std::move(out.uncertainty.unidentifiable);
+  Workspaces ws = makeWorkspaces(model, problem.threads);
+  summary.downweighted = downweightedReadings(problem.on(fitted), result.theta, out.noise, q,
+                                              in.options.max_downweighted, &ws);
+  const std::vector<bool>* defining = out.defining_joint.empty() ? nullptr : &out.defining_joint;
+  CalibrationSummary seed;
+  summariseGroupNoise(model.sensors(), problem.seed_noise, &seed, defining);
+  std::copy(seed.group_sigma, seed.group_sigma + kNumSensorGroups, summary.seed_group_sigma);
+  summariseGroupNoise(model.sensors(), out.noise, &summary, defining);
+  summary.wall_time = std::chrono::duration<double>(Clock::now() - in.start).count();
+  if (joint_angles) *joint_angles = std::move(out.q);
+  return result;
+}
+
+}  // namespace stac

@@ -1,0 +1,137 @@
+#include "solve/pass.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "solve/parallel.hpp"
+
+namespace stac {
+
+void PassStats::add(const PassStats& s) {
+  cost += s.cost;
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    sse[g] += s.sse[g];
+    count[g] += s.count[g];
+    wsse[g] += s.wsse[g];
+    wdims[g] += s.wdims[g];
+    leverage[g] += s.leverage[g];
+    group_cost[g] += s.group_cost[g];
+  }
+}
+
+namespace {
+
+// Adds the readings of the last evaluation in w to st; returns their rows.
+int addReadings(const FrameWorkspace& w, const NoiseModel& noise, const NoiseModel& seed_noise,
+                PassStats* st) {
+  int rows = 0;
+  for (int i = 0; i < w.count; ++i) {
+    const ReadingJacobian& rj = w.readings[i];
+    const int g_idx = static_cast<int>(rj.group);
+    const double sigma = noise.sigma(rj.group, rj.sensor);
+    const double seed_sigma = seed_noise.sigma(rj.group, rj.sensor);
+    st->sse[g_idx] += rj.s * sigma * sigma;
+    st->count[g_idx] += 1;
+    const double ratio = sigma / seed_sigma;
+    st->wsse[g_idx] += rj.weight * rj.s * ratio * ratio;
+    st->wdims[g_idx] += rj.weight * rj.rows;
+    st->group_cost[g_idx] += 0.5 * rj.rho;
+    rows += rj.rows;
+  }
+  return rows;
+}
+
+}  // namespace
+
+PassStats costPass(const Problem& problem, const SensorParameters& theta, const NoiseModel& noise,
+                   const RowMatrix& q, bool leverage, Workspaces* ws) {
+  const Observations& obs = problem.obs;
+  const int T = obs.num_frames;
+  const int dof = problem.model.dof();
+  std::vector<PassStats> chunk_stats(numChunks(T));
+  EvalOptions eo;
+  eo.jacobians = leverage;
+  parallelFor(numChunks(T), problem.threads, [&](int chunk, int tid) {
+    FrameWorkspace& w = (*ws)[tid];
+    PassStats& st = chunk_stats[chunk];
+    Eigen::VectorXd qt(dof), g(dof);
+    Eigen::MatrixXd H(dof, dof), Linv(dof, dof);
+    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+      qt = q.row(t).transpose();
+      st.cost += evaluateFrame(problem.model, theta, noise, problem.loss, frameReadings(obs, t),
+                               qt, eo, &w);
+      const int rows = addReadings(w, noise, problem.seed_noise, &st);
+      if (!leverage || rows == 0) continue;
+      accumulateNormalEquations(w, &H, &g);
+      addGroupLeverage(w, &H, &Linv, st.leverage);
+    }
+  });
+  PassStats total;
+  for (const PassStats& s : chunk_stats) total.add(s);
+  return total;
+}
+
+namespace {
+
+std::string sensorName(const SensorSet& s, SensorGroup g, int i) {
+  switch (g) {
+    case SensorGroup::kMarker: return s.markers[i].name;
+    case SensorGroup::kJoint: return s.joint_sensors[i].name;
+    case SensorGroup::kTendon: return s.tendon_sensors[i].name;
+  }
+  return "";
+}
+
+}  // namespace
+
+std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
+                                                      const SensorParameters& theta,
+                                                      const NoiseModel& noise, const RowMatrix& q,
+                                                      int max_count, Workspaces* ws) {
+  std::vector<DownweightedReading> all;
+  if (!problem.loss.enabled() || max_count <= 0) return all;
+  const MeasurementModel& model = problem.model;
+  const int T = problem.obs.num_frames;
+  std::vector<std::vector<DownweightedReading>> per_chunk(numChunks(T));
+  EvalOptions eo;
+  eo.jacobians = false;
+  parallelFor(numChunks(T), problem.threads, [&](int chunk, int tid) {
+    FrameWorkspace& w = (*ws)[tid];
+    Eigen::VectorXd qt(model.dof());
+    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+      qt = q.row(t).transpose();
+      evaluateFrame(model, theta, noise, problem.loss, frameReadings(problem.obs, t), qt, eo, &w);
+      for (int i = 0; i < w.count; ++i) {
+        const ReadingJacobian& rj = w.readings[i];
+        if (rj.weight < 0.999)
+          per_chunk[chunk].push_back(
+              {t, sensorName(model.sensors(), rj.group, rj.sensor), rj.weight});
+      }
+    }
+  });
+  for (auto& c : per_chunk) all.insert(all.end(), c.begin(), c.end());
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+    return a.weight < b.weight;
+  });
+  if (static_cast<int>(all.size()) > max_count) all.resize(max_count);
+  return all;
+}
+
+IterationReport makeReport(int it, const PassStats& st, Clock::time_point start,
+                           const std::string& stage, const SensorParameters* theta) {
+  IterationReport r;
+  r.theta = theta;
+  r.iteration = it;
+  r.cost = st.cost;
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    r.present[g] = st.count[g] > 0;
+    r.rms[g] = st.rms(g);
+  }
+  r.elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+  r.stage = stage;
+  return r;
+}
+
+}  // namespace stac

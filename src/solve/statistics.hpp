@@ -1,0 +1,30 @@
+// The summary's numbers that every method reports the same way: per-sensor
+// residual statistics, the "before" RMS, the per-group σ.
+#pragma once
+
+#include <vector>
+
+#include "solve/problem.hpp"
+#include "stac/calibration.hpp"
+
+namespace stac {
+
+// Per-sensor residual statistics in raw units at (θ, q) over obs.
+void residualStatistics(const MeasurementModel& model, const SensorParameters& theta,
+                        const Observations& obs, const RowMatrix& q, int threads,
+                        CalibrationResult* result);
+
+// RMS residual per group in raw units with θ held fixed and each q_t fitted
+// to it (ten LM steps from q_start, frames x dof), on at most 1000 frames
+// spread over the log: the summary's "before".
+void fittedResidualRms(const Problem& problem, const SensorParameters& theta,
+                       const RowMatrix& q_start, double rms[kNumSensorGroups]);
+
+// The summary's per-group σ (RMS over the group's sensors; in the joint
+// group, over those with !(*skip_joint)[i] when skip_joint is given, 0 if
+// none) and which groups the sensors have.
+void summariseGroupNoise(const SensorSet& sensors, const NoiseModel& noise,
+                         CalibrationSummary* summary,
+                         const std::vector<bool>* skip_joint = nullptr);
+
+}  // namespace stac
