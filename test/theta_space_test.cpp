@@ -75,7 +75,9 @@ TEST(ThetaSpace, FreeMaskFollowsFixed) {
                        (e.block == ThetaBlock::kJointSensor && e.item == 1);
     EXPECT_EQ(space.free()[i], !fixed) << space.names()[i];
     EXPECT_EQ(space.freePosition()[i] >= 0, !fixed);
-    if (!fixed) EXPECT_EQ(space.freeIndex()[space.freePosition()[i]], i);
+    if (!fixed) {
+      EXPECT_EQ(space.freeIndex()[space.freePosition()[i]], i);
+    }
   }
   // A step over the free entries leaves the fixed ones exactly alone.
   std::mt19937 rng(3);

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "model/prediction_errors.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
@@ -110,26 +111,11 @@ EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& se
   RowMatrix err_marker = RowMatrix::Constant(T, M, kNaN);
   RowMatrix err_joint = RowMatrix::Constant(T, J, kNaN);
   RowMatrix err_tendon = RowMatrix::Constant(T, N, kNaN);
-  const int threads = std::max(1, resolveThreads(options.threads));
-  std::vector<KinematicsWorkspace> kin;
-  kin.reserve(threads);
-  for (int i = 0; i < threads; ++i) kin.emplace_back(robot);
-  parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
-    Eigen::VectorXd pm(3 * M), pj(J), pt(N), q(robot.dof());
-    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
-    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
-      q = result.q.row(t).transpose();
-      predictFrame(model, theta, q, &kin[tid], pm.data(), pj.data(), pt.data());
-      for (int m = 0; m < M; ++m) {
-        const Eigen::Vector3d x = obs.marker.row(t).segment<3>(3 * m).transpose();
-        if (x.allFinite()) err_marker(t, m) = (pm.segment<3>(3 * m) - x).norm();
-      }
-      for (int j = 0; j < J; ++j)
-        if (std::isfinite(obs.joint(t, j))) err_joint(t, j) = std::abs(pj[j] - obs.joint(t, j));
-      for (int k = 0; k < N; ++k)
-        if (std::isfinite(obs.tendon(t, k))) err_tendon(t, k) = std::abs(pt[k] - obs.tendon(t, k));
-    }
-  });
+  RowMatrix* errors_of[kNumSensorGroups] = {&err_marker, &err_joint, &err_tendon};
+  visitPredictionErrors(model, theta, obs, result.q, options.threads,
+                        [&](int, int t, SensorGroup g, int sensor, double e) {
+                          (*errors_of[static_cast<int>(g)])(t, sensor) = e;
+                        });
 
   const RowMatrix* errors[kNumSensorGroups] = {&err_marker, &err_joint, &err_tendon};
   for (int g = 0; g < kNumSensorGroups; ++g) {

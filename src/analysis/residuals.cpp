@@ -6,10 +6,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "stac/calibrate.hpp"
+#include "model/prediction_errors.hpp"
 #include "solve/parallel.hpp"
-#include "solve/q_phase.hpp"
-#include "wide_basin.hpp"
+#include "solve/statistics.hpp"
+#include "stac/calibrate.hpp"
 
 namespace stac {
 
@@ -49,52 +49,19 @@ ResidualSample sampleResiduals(const RobotModel& robot, const SensorSet& sensors
   if (q) {
     for (int k = 0; k < T; ++k) qs.row(k) = q->row(out.frames[k]);
   } else {
-    // As calibrate() fits q to the seed for summary.before_rms: from the
-    // neutral pose, ten LM-batch steps per frame, at the seed σ.
-    std::vector<FrameWorkspace> ws;
-    for (int i = 0; i < threads; ++i) ws.emplace_back(model);
-    QState state;
-    state.q = neutralPose(robot).transpose().replicate(T, 1);
-    QPhaseOptions qo;
-    qo.method = QPhaseMethod::kLmBatch;
-    qo.max_steps = 10;
-    qo.threads = threads;
-    qPhase(model, theta, NoiseModel::fromSeeds(sensors),
-           RobustLoss(options.loss, options.loss_scale), sub, qo, &ws, &state);
-    qs = state.q;
+    // As calibrate() fits q to the seed for summary.before_rms.
+    const NoiseModel seed = NoiseModel::fromSeeds(sensors);
+    const RobustLoss loss(options.loss, options.loss_scale);
+    const Problem problem{model, sub, seed, loss, threads};
+    qs = fitAnglesToTheta(problem, theta, neutralPose(robot).transpose().replicate(T, 1));
   }
-
   // Per chunk, then joined in chunk order: the same output with any thread count.
-  const int M = static_cast<int>(sensors.markers.size());
-  const int J = static_cast<int>(sensors.joint_sensors.size());
-  const int N = static_cast<int>(sensors.tendon_sensors.size());
   std::vector<ResidualSample> chunks(numChunks(T));
-  std::vector<KinematicsWorkspace> kin(threads, KinematicsWorkspace(robot));
-  parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
-    ResidualSample& c = chunks[chunk];
-    Eigen::VectorXd qt(robot.dof()), pm(3 * M), pj(J), pt(N);
-    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
-    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
-      qt = qs.row(t).transpose();
-      predictFrame(model, theta, qt, &kin[tid], pm.data(), pj.data(), pt.data());
-      auto add = [&](SensorGroup g, int i, double e) {
-        c.magnitude[static_cast<int>(g)].push_back(e);
-        c.sensor[static_cast<int>(g)].push_back(i);
-      };
-      for (int m = 0; m < M; ++m) {
-        const double* x = sub.marker.row(t).data() + 3 * m;
-        if (!std::isnan(x[0]))
-          add(SensorGroup::kMarker, m,
-              (pm.segment<3>(3 * m) - Eigen::Vector3d(x[0], x[1], x[2])).norm());
-      }
-      for (int j = 0; j < J; ++j)
-        if (!std::isnan(sub.joint(t, j)))
-          add(SensorGroup::kJoint, j, std::abs(pj[j] - sub.joint(t, j)));
-      for (int k = 0; k < N; ++k)
-        if (!std::isnan(sub.tendon(t, k)))
-          add(SensorGroup::kTendon, k, std::abs(pt[k] - sub.tendon(t, k)));
-    }
-  });
+  visitPredictionErrors(model, theta, sub, qs, threads,
+                        [&](int chunk, int, SensorGroup g, int sensor, double e) {
+                          chunks[chunk].magnitude[static_cast<int>(g)].push_back(e);
+                          chunks[chunk].sensor[static_cast<int>(g)].push_back(sensor);
+                        });
   for (const ResidualSample& c : chunks)
     for (int g = 0; g < kNumSensorGroups; ++g) {
       out.magnitude[g].insert(out.magnitude[g].end(), c.magnitude[g].begin(), c.magnitude[g].end());

@@ -45,23 +45,30 @@ void residualStatistics(const MeasurementModel& model, const SensorParameters& t
   for (int k = 0; k < N; ++k) result->tendon_residual.push_back(stats(M + J + k));
 }
 
-void fittedResidualRms(const Problem& problem, const SensorParameters& theta,
-                       const RowMatrix& q_start, double rms[kNumSensorGroups]) {
-  const MeasurementModel& model = problem.model;
-  Workspaces ws = makeWorkspaces(model, problem.threads);
-  const std::vector<int> sub = spreadFrames(problem.obs.num_frames, 1000);
-  const Observations sub_obs = selectFrames(problem.obs, sub);
-  QState seed_state;
-  seed_state.q = RowMatrix(sub_obs.num_frames, model.dof());
-  for (int k = 0; k < sub_obs.num_frames; ++k) seed_state.q.row(k) = q_start.row(sub[k]);
+RowMatrix fitAnglesToTheta(const Problem& problem, const SensorParameters& theta,
+                           const RowMatrix& q_start) {
+  Workspaces ws = makeWorkspaces(problem.model, problem.threads);
+  QState state;
+  state.q = q_start;
   QPhaseOptions qo;
   qo.method = QPhaseMethod::kLmBatch;
   qo.max_steps = 10;
   qo.threads = problem.threads;
+  qPhase(problem.model, theta, problem.seed_noise, problem.loss, problem.obs, qo, &ws, &state);
+  return state.q;
+}
+
+void fittedResidualRms(const Problem& problem, const SensorParameters& theta,
+                       const RowMatrix& q_start, double rms[kNumSensorGroups]) {
+  const std::vector<int> sub = spreadFrames(problem.obs.num_frames, 1000);
+  const Observations sub_obs = selectFrames(problem.obs, sub);
+  RowMatrix sub_q(sub_obs.num_frames, problem.model.dof());
+  for (int k = 0; k < sub_obs.num_frames; ++k) sub_q.row(k) = q_start.row(sub[k]);
+  const Problem sub_problem = problem.on(sub_obs);
   // At the seed σ, whatever the caller has adapted.
-  const NoiseModel& seed = problem.seed_noise;
-  qPhase(model, theta, seed, problem.loss, sub_obs, qo, &ws, &seed_state);
-  const PassStats before = costPass(problem.on(sub_obs), theta, seed, seed_state.q, false, &ws);
+  const RowMatrix q = fitAnglesToTheta(sub_problem, theta, sub_q);
+  Workspaces ws = makeWorkspaces(problem.model, problem.threads);
+  const PassStats before = costPass(sub_problem, theta, problem.seed_noise, q, false, &ws);
   for (int g = 0; g < kNumSensorGroups; ++g) rms[g] = before.rms(g);
 }
 

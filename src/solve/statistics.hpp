@@ -14,6 +14,11 @@ void residualStatistics(const MeasurementModel& model, const SensorParameters& t
                         const Observations& obs, const RowMatrix& q, int threads,
                         CalibrationResult* result);
 
+// Every frame's q_t fitted to θ at the seed σ: ten LM steps per frame from
+// q_start (frames x dof), as the summary's "before" does.
+RowMatrix fitAnglesToTheta(const Problem& problem, const SensorParameters& theta,
+                           const RowMatrix& q_start);
+
 // RMS residual per group in raw units with θ held fixed and each q_t fitted
 // to it (ten LM steps from q_start, frames x dof), on at most 1000 frames
 // spread over the log: the summary's "before".
