@@ -1,0 +1,148 @@
+#include "methods/monolithic_costs.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cassert>
+
+#include "solve/parallel.hpp"
+#include "stac/sensor_models.hpp"
+
+namespace stac::monolithic {
+namespace {
+
+// d(R(q) y)/d(w, x, y, z) for a unit quaternion (Ceres's [w, x, y, z]).
+Eigen::Matrix<double, 3, 4> rotatePointJacobian(const double* quat, const Eigen::Vector3d& y) {
+  const double w = quat[0];
+  const Eigen::Vector3d v(quat[1], quat[2], quat[3]);
+  Eigen::Matrix<double, 3, 4> J;
+  J.col(0) = 2 * w * y + 2 * v.cross(y);
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d e = Eigen::Vector3d::Unit(i);
+    J.col(1 + i) = -2 * v[i] * y + 2 * y[i] * v + 2 * v.dot(y) * e + 2 * w * e.cross(y);
+  }
+  return J;
+}
+
+Eigen::Matrix3d quaternionMatrix(const double* quat) {
+  return Eigen::Quaterniond(quat[0], quat[1], quat[2], quat[3]).normalized().toRotationMatrix();
+}
+
+}  // namespace
+
+KinematicsCache::KinematicsCache(const RobotModel& robot, const RowMatrix* q, int threads)
+    : robot_(robot), q_(q), threads_(threads), frames_(q->rows(), KinematicsWorkspace(robot)) {}
+
+void KinematicsCache::PrepareForEvaluation(bool /*evaluate_jacobians*/,
+                                           bool new_evaluation_point) {
+  if (!new_evaluation_point && valid_) return;
+  const int T = static_cast<int>(q_->rows());
+  parallelFor(numChunks(T), threads_, [&](int chunk, int) {
+    Eigen::VectorXd qt(robot_.dof());
+    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+      qt = q_->row(t).transpose();
+      forwardKinematics(robot_, qt, &frames_[t]);
+    }
+  });
+  valid_ = true;
+}
+
+MarkerReadingCost::MarkerReadingCost(const RobotModel& robot, const KinematicsCache& cache,
+                                     int frame, int link, const Eigen::Vector3d& x,
+                                     double sigma)
+    : robot_(robot), cache_(cache), frame_(frame), link_(link), x_(x), inv_(1.0 / sigma) {
+  set_num_residuals(3);
+  *mutable_parameter_block_sizes() = {robot.dof(), 4, 3, 3};
+}
+
+ceres::CostFunction* MarkerReadingCost::Create(const RobotModel& robot,
+                                               const KinematicsCache& cache, int frame,
+                                               int link, const Eigen::Vector3d& x,
+                                               double sigma) {
+  return new MarkerReadingCost(robot, cache, frame, link, x, sigma);
+}
+
+bool MarkerReadingCost::Evaluate(double const* const* p, double* residuals,
+                                 double** jac) const {
+  const KinematicsWorkspace& ws = cache_.frame(frame_);
+  const Eigen::Vector3d d(p[3][0], p[3][1], p[3][2]);
+  const Eigen::Vector3d t(p[2][0], p[2][1], p[2][2]);
+  const Eigen::Matrix3d R = quaternionMatrix(p[1]);
+  const Eigen::Vector3d xb = marker_sensor::positionInBase(ws, link_, d);
+  Eigen::Map<Eigen::Vector3d> r(residuals);
+  r = (R * xb + t - x_) * inv_;
+  if (!jac) return true;
+  const int dof = robot_.dof();
+  if (jac[0]) {
+    Eigen::MatrixXd J(3, dof);
+    pointJacobian(robot_, ws, link_, xb, J);
+    Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>> Jq(jac[0], 3, dof);
+    Jq = inv_ * R * J;
+  }
+  using Rows34 = Eigen::Matrix<double, 3, 4, Eigen::RowMajor>;
+  using Rows33 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+  if (jac[1]) {
+    Eigen::Map<Rows34> J(jac[1]);
+    J = inv_ * rotatePointJacobian(p[1], xb);
+  }
+  if (jac[2]) {
+    Eigen::Map<Rows33> J(jac[2]);
+    J = inv_ * Eigen::Matrix3d::Identity();
+  }
+  if (jac[3]) {
+    Eigen::Map<Rows33> J(jac[3]);
+    J = inv_ * R * ws.link_pose[link_].linear();
+  }
+  return true;
+}
+
+ScalarReadingCost::ScalarReadingCost(const RobotModel& robot, const KinematicsCache& cache,
+                                     int frame, const JointSensorConfig* joint,
+                                     const TendonSensorConfig* tendon, double p, double sigma)
+    : robot_(robot), cache_(cache), frame_(frame), joint_(joint), tendon_(tendon), p_(p),
+      inv_(1.0 / sigma) {
+  assert((joint == nullptr) != (tendon == nullptr));
+  set_num_residuals(1);
+  *mutable_parameter_block_sizes() = {robot.dof(), 2};
+}
+
+ceres::CostFunction* ScalarReadingCost::Create(const RobotModel& robot,
+                                               const KinematicsCache& cache, int frame,
+                                               const JointSensorConfig* joint,
+                                               const TendonSensorConfig* tendon, double p,
+                                               double sigma) {
+  return new ScalarReadingCost(robot, cache, frame, joint, tendon, p, sigma);
+}
+
+bool ScalarReadingCost::Evaluate(double const* const* p, double* residuals,
+                                 double** jac) const {
+  const int dof = robot_.dof();
+  const double gain = p[1][0], bias = p[1][1];
+  double value;
+  const KinematicsWorkspace& ws = cache_.frame(frame_);
+  if (joint_) {
+    const MovableJoint& mj = robot_.movableJoints()[joint_->joint];
+    value = mj.multiplier * p[0][mj.q_index] + mj.offset;
+  } else {
+    value = tendon_sensor::length(robot_, *tendon_, ws);
+  }
+  residuals[0] = (gain * value + bias - p_) * inv_;
+  if (!jac) return true;
+  if (jac[0]) {
+    Eigen::Map<Eigen::RowVectorXd> row(jac[0], dof);
+    row.setZero();
+    if (joint_) {
+      const MovableJoint& mj = robot_.movableJoints()[joint_->joint];
+      row[mj.q_index] = inv_ * gain * mj.multiplier;
+    } else {
+      tendon_sensor::addLengthJacobian(robot_, *tendon_, ws, inv_ * gain, row);
+    }
+  }
+  if (jac[1]) {
+    jac[1][0] = inv_ * value;
+    jac[1][1] = inv_;
+  }
+  return true;
+}
+
+}  // namespace stac::monolithic
