@@ -260,7 +260,7 @@ int run(const cli::Args& args) {
   }
   UrdfPatch urdf_patch;
   if (!urdf_out.empty())
-    urdf_patch = patchUrdfMarkers(readTextFile(urdf), robot, result.sensors, result.theta, urdf);
+    urdf_patch = patchUrdfMarkers(robot, result.sensors, result.theta);
   std::string report;
   if (!report_path.empty()) {
     // Residuals on the frames calibrate() used for "before": the seed θ with

@@ -16,12 +16,17 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <kdl/tree.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 namespace stac {
+
+namespace io {
+class UrdfDocument;  // src/io/urdf_document.hpp: internal
+}
 
 enum class JointType { kRevolute, kContinuous, kPrismatic };
 
@@ -59,6 +64,11 @@ class RobotModel {
 
   const std::string& name() const { return name_; }
   const std::string& sourceName() const { return source_; }
+  // The URDF text the model was loaded from, byte for byte (what a
+  // calibrated URDF is written from: urdf_patch.hpp).
+  const std::string& urdfText() const;
+  // That text as the library parsed it (internal: src/io/urdf_document.hpp).
+  const io::UrdfDocument& urdfDocument() const { return *urdf_; }
 
   // Independent joints (the q vector).
   int dof() const { return static_cast<int>(q_joints_.size()); }
@@ -99,6 +109,8 @@ class RobotModel {
   friend class UrdfLoader;
 
   std::string name_, source_;
+  // Shared by copies: immutable, and the text can be megabytes.
+  std::shared_ptr<const io::UrdfDocument> urdf_;
   std::vector<Link> links_;
   std::vector<MovableJoint> movable_;
   std::vector<int> q_joints_;

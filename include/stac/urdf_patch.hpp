@@ -2,7 +2,7 @@
 // marker positions, by editing the text so that everything else (comments,
 // formatting, attribute order) stays byte for byte as it was.
 //
-//   UrdfPatch p = patchUrdfMarkers(text, robot, sensors, theta, "robot.urdf");
+//   UrdfPatch p = patchUrdfMarkers(robot, sensors, theta);
 //   // p.urdf: the new text; p.unplaced: markers it had no link for.
 //
 // Which link carries a marker (the URDF idiom of SPEC §3: a link named like
@@ -46,10 +46,17 @@ struct UrdfPatch {
   std::vector<UnplacedMarker> unplaced;
 };
 
-// `urdf_text` must be the text `robot` was loaded from (source_name names it
-// in errors). Throws InputError(source_name, line, ...) if the text is not
-// well-formed XML or does not hold the joints the model has. Markers whose
+// Patches the text `robot` was loaded from (robot.urdfText()), as the loader
+// read it: any URDF the loader accepts can be patched. Markers whose
 // position already equals the joint origin are placed without a text change.
+// Throws std::invalid_argument if theta does not match sensors.
+UrdfPatch patchUrdfMarkers(const RobotModel& robot, const SensorSet& sensors,
+                           const SensorParameters& theta);
+
+// The same, for a caller that holds the text: `urdf_text` must be, byte for
+// byte, the text `robot` was loaded from (source_name names it in errors).
+// Throws InputError(source_name, line, ...) if it is not a URDF the loader
+// would accept, or where it first differs from the robot's text.
 UrdfPatch patchUrdfMarkers(const std::string& urdf_text, const RobotModel& robot,
                            const SensorSet& sensors, const SensorParameters& theta,
                            const std::string& source_name = "<string>");
