@@ -276,6 +276,45 @@ void readJointSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorPa
   }
 }
 
+// A path tendon's anchors, in order from one end to the other.
+void readPath(Reader& rd, const YAML::Node& p, const std::string& key, TendonSensorConfig* c) {
+  if (!p.IsSequence()) rd.fail(p, key + ".path", "expected a list of {link, point}");
+  if (p.size() < 2)
+    rd.fail(p, key + ".path", "a path needs at least two points, got " + std::to_string(p.size()));
+  for (size_t k = 0; k < p.size(); ++k) {
+    const std::string pk = key + ".path[" + std::to_string(k) + "]";
+    auto a = rd.fields(p[k], pk, {"link", "point"});
+    if (!a.count("link")) rd.fail(p[k], pk + ".link", "missing");
+    if (!a.count("point")) rd.fail(p[k], pk + ".point", "missing");
+    PathAnchor anchor;
+    anchor.link = rd.link(a["link"], pk + ".link");
+    anchor.link_name = a["link"].Scalar();
+    anchor.point = rd.vector(a["point"], pk + ".point", 3);
+    c->path.push_back(anchor);
+  }
+}
+
+// A coupling tendon's joint: coefficient terms. Reader::fields does not
+// serve here: the keys are joint names, not a fixed set.
+void readCoupling(Reader& rd, const YAML::Node& cp, const std::string& key,
+                  TendonSensorConfig* c) {
+  if (!cp.IsMap() || cp.size() == 0)
+    rd.fail(cp, key + ".coupling", "expected a mapping of joint: coefficient");
+  std::map<std::string, int> seen;  // joint -> line
+  for (auto it = cp.begin(); it != cp.end(); ++it) {
+    const std::string jn = it->first.IsScalar() ? it->first.Scalar() : "";
+    const std::string ck = key + ".coupling." + jn;
+    if (seen.count(jn))
+      rd.fail(it->first, ck, "given twice (first on line " + std::to_string(seen[jn]) + ")");
+    seen[jn] = it->first.Mark().line + 1;
+    CouplingTerm term;
+    term.joint = rd.joint(it->first, ck);
+    term.joint_name = jn;
+    term.coefficient = rd.number(it->second, ck);
+    c->coupling.push_back(term);
+  }
+}
+
 void readTendonSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorParameters* th) {
   if (list.IsNull()) return;
   if (!list.IsSequence()) rd.fail(list, "tendon_sensors", "expected a list of sensors");
@@ -294,41 +333,10 @@ void readTendonSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorP
     if (!has_path && !has_coupling)
       rd.fail(list[i], key, "needs a path (anchor points) or a coupling (joint: coefficient)");
     if (has_path) {
-      const YAML::Node& p = f["path"];
-      if (!p.IsSequence()) rd.fail(p, key + ".path", "expected a list of {link, point}");
-      if (p.size() < 2)
-        rd.fail(p, key + ".path",
-                "a path needs at least two points, got " + std::to_string(p.size()));
-      for (size_t k = 0; k < p.size(); ++k) {
-        const std::string pk = key + ".path[" + std::to_string(k) + "]";
-        auto a = rd.fields(p[k], pk, {"link", "point"});
-        if (!a.count("link")) rd.fail(p[k], pk + ".link", "missing");
-        if (!a.count("point")) rd.fail(p[k], pk + ".point", "missing");
-        PathAnchor anchor;
-        anchor.link = rd.link(a["link"], pk + ".link");
-        anchor.link_name = a["link"].Scalar();
-        anchor.point = rd.vector(a["point"], pk + ".point", 3);
-        c.path.push_back(anchor);
-      }
+      readPath(rd, f["path"], key, &c);
     } else {
       c.kind = TendonSensorConfig::Kind::kCoupling;
-      const YAML::Node& cp = f["coupling"];
-      if (!cp.IsMap() || cp.size() == 0)
-        rd.fail(cp, key + ".coupling", "expected a mapping of joint: coefficient");
-      std::map<std::string, int> seen;  // joint -> line
-      for (auto it = cp.begin(); it != cp.end(); ++it) {
-        const std::string jn = it->first.IsScalar() ? it->first.Scalar() : "";
-        const std::string ck = key + ".coupling." + jn;
-        if (seen.count(jn))
-          rd.fail(it->first, ck,
-                  "given twice (first on line " + std::to_string(seen[jn]) + ")");
-        seen[jn] = it->first.Mark().line + 1;
-        CouplingTerm term;
-        term.joint = rd.joint(it->first, ck);
-        term.joint_name = jn;
-        term.coefficient = rd.number(it->second, ck);
-        c.coupling.push_back(term);
-      }
+      readCoupling(rd, f["coupling"], key, &c);
     }
     s->tendon_sensors.push_back(c);
     th->tendon_sensor.push_back(gb);

@@ -85,127 +85,177 @@ std::string perGroup(const CalibrationSummary& sm, const double (&v)[kNumSensorG
   return s + "}";
 }
 
-}  // namespace
+// Appends the sections of one sensors file, each in the order the SPEC
+// shows. σ are the calibration's (adapted) values when there is one, and
+// std/residual/summary are written only then.
+class Writer {
+ public:
+  Writer(const SensorSet& s, const SensorParameters& th, const CalibrationResult* result)
+      : s_(s), th_(th), result_(result), sig_(result ? result->sensors : s) {
+    assert(sig_.markers.size() == s.markers.size());
+    assert(sig_.joint_sensors.size() == s.joint_sensors.size());
+    assert(sig_.tendon_sensors.size() == s.tendon_sensors.size());
+    assert(th.marker_position.size() == s.markers.size());
+    assert(th.joint_sensor.size() == s.joint_sensors.size());
+    assert(th.tendon_sensor.size() == s.tendon_sensors.size());
+  }
 
-std::string sensorsToYaml(const SensorSet& s, const SensorParameters& th,
-                          const CalibrationResult* result) {
-  // σ are the calibration's (adapted) values when there is one.
-  const SensorSet& sig = result ? result->sensors : s;
-  assert(sig.markers.size() == s.markers.size());
-  assert(sig.joint_sensors.size() == s.joint_sensors.size());
-  assert(sig.tendon_sensors.size() == s.tendon_sensors.size());
-  assert(th.marker_position.size() == s.markers.size());
-  assert(th.joint_sensor.size() == s.joint_sensors.size());
-  assert(th.tendon_sensor.size() == s.tendon_sensors.size());
-  std::string o;
-  if (result) o += "# Calibration written by stac_calib; feed it back with --sensors.\n";
-  if (!s.markers.empty()) {
-    const Eigen::Quaterniond q = unitQuaternion(th.mocap.rotation);
+  void mocap(std::string& o) const {
     o += "mocap:\n";
-    o += "  sigma: " + num(sig.mocap_sigma) + "\n";
-    o += "  frame:\n";
-    o += "    translation: " + vec(th.mocap.translation) + "\n";
-    o += "    rpy: " + vec(toRpy(q)) + "\n";
-    o += "    quaternion: " + vec(Eigen::Vector4d(q.w(), q.x(), q.y(), q.z())) + "\n";
-    o += "    fixed: " + std::string(boolean(s.mocap_frame_fixed)) + "\n";
-    if (result)
-      o += "    std: {translation: " + vec(result->std.mocap_translation) +
-           ", rotation: " + vec(result->std.mocap_rotation) + "}\n";
+    o += "  sigma: " + num(sig_.mocap_sigma) + "\n";
+    frame(o);
     o += "  markers:\n";
-    for (size_t m = 0; m < s.markers.size(); ++m) {
-      const MarkerConfig& mc = s.markers[m];
-      o += "    - name: " + scalar(mc.name) + "\n";
-      o += "      link: " + scalar(mc.link_name) + "\n";
-      o += "      position: " + vec(th.marker_position[m]) + "\n";
-      o += "      fixed: " + std::string(boolean(mc.fixed)) + "\n";
-      const MarkerConfig& ms = sig.markers[m];
-      if (ms.sigma_overridden || ms.sigma != sig.mocap_sigma)
-        o += "      sigma: " + num(ms.sigma) + "\n";
-      if (result) {
-        if (m < result->std.marker_position.size())
-          o += "      std: {position: " + vec(result->std.marker_position[m]) + "}\n";
-        if (m < result->marker_residual.size())
-          o += residualLine("      ", result->marker_residual[m]);
-      }
+    for (size_t m = 0; m < s_.markers.size(); ++m) marker(o, m);
+  }
+
+  void jointSensors(std::string& o) const {
+    o += "joint_sensors:\n";
+    for (size_t j = 0; j < s_.joint_sensors.size(); ++j) {
+      const JointSensorConfig& c = s_.joint_sensors[j];
+      o += "  - name: " + scalar(c.name) + "\n";
+      o += "    joint: " + scalar(c.joint_name) + "\n";
+      gainBias(o, th_.joint_sensor[j], sig_.joint_sensors[j].sigma, c.fixed);
+      if (result_) extras(o, result_->std.joint_sensor, result_->joint_residual, j);
     }
   }
-  auto gainBias = [&](const GainBias& gb, double sigma, bool fixed) {
+
+  void tendonSensors(std::string& o) const {
+    o += "tendon_sensors:\n";
+    for (size_t j = 0; j < s_.tendon_sensors.size(); ++j) {
+      const TendonSensorConfig& c = s_.tendon_sensors[j];
+      o += "  - name: " + scalar(c.name) + "\n";
+      gainBias(o, th_.tendon_sensor[j], sig_.tendon_sensors[j].sigma, c.fixed);
+      if (c.kind == TendonSensorConfig::Kind::kPath)
+        tendonPath(o, c);
+      else
+        tendonCoupling(o, c);
+      if (result_) extras(o, result_->std.tendon_sensor, result_->tendon_residual, j);
+    }
+  }
+
+ private:
+  // Both rpy and quaternion, so that a reader may take either (SPEC §3).
+  void frame(std::string& o) const {
+    const Eigen::Quaterniond q = unitQuaternion(th_.mocap.rotation);
+    o += "  frame:\n";
+    o += "    translation: " + vec(th_.mocap.translation) + "\n";
+    o += "    rpy: " + vec(toRpy(q)) + "\n";
+    o += "    quaternion: " + vec(Eigen::Vector4d(q.w(), q.x(), q.y(), q.z())) + "\n";
+    o += "    fixed: " + std::string(boolean(s_.mocap_frame_fixed)) + "\n";
+    if (result_)
+      o += "    std: {translation: " + vec(result_->std.mocap_translation) +
+           ", rotation: " + vec(result_->std.mocap_rotation) + "}\n";
+  }
+
+  // A marker's own σ only where it differs from mocap.sigma (or was given),
+  // so that a seed written back reads as it was.
+  void marker(std::string& o, size_t m) const {
+    const MarkerConfig& mc = s_.markers[m];
+    o += "    - name: " + scalar(mc.name) + "\n";
+    o += "      link: " + scalar(mc.link_name) + "\n";
+    o += "      position: " + vec(th_.marker_position[m]) + "\n";
+    o += "      fixed: " + std::string(boolean(mc.fixed)) + "\n";
+    const MarkerConfig& ms = sig_.markers[m];
+    if (ms.sigma_overridden || ms.sigma != sig_.mocap_sigma)
+      o += "      sigma: " + num(ms.sigma) + "\n";
+    if (result_) {
+      if (m < result_->std.marker_position.size())
+        o += "      std: {position: " + vec(result_->std.marker_position[m]) + "}\n";
+      if (m < result_->marker_residual.size())
+        o += residualLine("      ", result_->marker_residual[m]);
+    }
+  }
+
+  static void gainBias(std::string& o, const GainBias& gb, double sigma, bool fixed) {
     o += "    gain: " + num(gb.gain) + "\n";
     o += "    bias: " + num(gb.bias) + "\n";
     o += "    sigma: " + num(sigma) + "\n";
     o += "    fixed: " + std::string(boolean(fixed)) + "\n";
-  };
-  auto extras = [&](const std::vector<GainBias>& std_of, const std::vector<ResidualStats>& res,
-                    size_t i) {
-    if (!result) return;
+  }
+
+  static void tendonPath(std::string& o, const TendonSensorConfig& c) {
+    o += "    path:\n";
+    for (const PathAnchor& a : c.path)
+      o += "      - {link: " + scalar(a.link_name) + ", point: " + vec(a.point) + "}\n";
+  }
+
+  static void tendonCoupling(std::string& o, const TendonSensorConfig& c) {
+    o += "    coupling: {";
+    for (size_t k = 0; k < c.coupling.size(); ++k)
+      o += (k ? ", " : "") + scalar(c.coupling[k].joint_name) + ": " +
+           num(c.coupling[k].coefficient);
+    o += "}\n";
+  }
+
+  // A sensor's std and residual lines, where the calibration has them.
+  static void extras(std::string& o, const std::vector<GainBias>& std_of,
+                     const std::vector<ResidualStats>& res, size_t i) {
     if (i < std_of.size())
       o += "    std: {gain: " + num(std_of[i].gain) + ", bias: " + num(std_of[i].bias) + "}\n";
     if (i < res.size()) o += residualLine("    ", res[i]);
-  };
-  if (!s.joint_sensors.empty()) {
-    o += "joint_sensors:\n";
-    for (size_t j = 0; j < s.joint_sensors.size(); ++j) {
-      const JointSensorConfig& c = s.joint_sensors[j];
-      o += "  - name: " + scalar(c.name) + "\n";
-      o += "    joint: " + scalar(c.joint_name) + "\n";
-      gainBias(th.joint_sensor[j], sig.joint_sensors[j].sigma, c.fixed);
-      if (result) extras(result->std.joint_sensor, result->joint_residual, j);
-    }
   }
-  if (!s.tendon_sensors.empty()) {
-    o += "tendon_sensors:\n";
-    for (size_t j = 0; j < s.tendon_sensors.size(); ++j) {
-      const TendonSensorConfig& c = s.tendon_sensors[j];
-      o += "  - name: " + scalar(c.name) + "\n";
-      gainBias(th.tendon_sensor[j], sig.tendon_sensors[j].sigma, c.fixed);
-      if (c.kind == TendonSensorConfig::Kind::kPath) {
-        o += "    path:\n";
-        for (const PathAnchor& a : c.path)
-          o += "      - {link: " + scalar(a.link_name) + ", point: " + vec(a.point) + "}\n";
-      } else {
-        o += "    coupling: {";
-        for (size_t k = 0; k < c.coupling.size(); ++k)
-          o += (k ? ", " : "") + scalar(c.coupling[k].joint_name) + ": " +
-               num(c.coupling[k].coefficient);
-        o += "}\n";
-      }
-      if (result) extras(result->std.tendon_sensor, result->tendon_residual, j);
-    }
+
+  const SensorSet& s_;
+  const SensorParameters& th_;
+  const CalibrationResult* result_;
+  const SensorSet& sig_;
+};
+
+// An empty list as "[]" so that it reads back as a list, not as null.
+void unidentifiable(std::string& o, const std::vector<UnidentifiableDirection>& list) {
+  if (list.empty()) {
+    o += "  unidentifiable: []\n";
+    return;
   }
-  if (result) {
-    const CalibrationSummary& sm = result->summary;
-    o += "summary:\n";
-    o += "  method: " + scalar(sm.method.empty() ? "unknown" : sm.method) + "\n";
-    if (!sm.q_phase.empty()) o += "  q_phase: " + scalar(sm.q_phase) + "\n";
-    o += "  iterations: " + std::to_string(sm.iterations) + "\n";
-    o += "  converged: " + std::string(boolean(sm.converged)) + "\n";
-    o += "  initial_cost: " + num(sm.initial_cost) + "\n";
-    o += "  final_cost: " + num(sm.final_cost) + "\n";
-    o += "  frames: " + std::to_string(sm.frames) + "\n";
-    o += "  wall_time: " + num(sm.wall_time) + "\n";
-    o += "  sigma: " + perGroup(sm, sm.group_sigma) + "\n";
-    o += "  rms_before: " + perGroup(sm, sm.before_rms) + "\n";
-    o += "  rms_after: " + perGroup(sm, sm.after_rms) + "\n";
-    if (sm.unidentifiable.empty()) {
-      o += "  unidentifiable: []\n";
-    } else {
-      o += "  unidentifiable:\n";
-      for (const UnidentifiableDirection& d : sm.unidentifiable) {
-        o += "    - parameters: [";
-        for (size_t k = 0; k < d.parameters.size(); ++k)
-          o += (k ? ", " : "") + quoted(d.parameters[k]);
-        o += "]\n      reason: " + quoted(d.reason) + "\n";
-      }
-    }
-    if (sm.downweighted.empty()) {
-      o += "  downweighted: []\n";
-    } else {
-      o += "  downweighted:\n";
-      for (const DownweightedReading& d : sm.downweighted)
-        o += "    - {frame: " + std::to_string(d.frame) + ", sensor: " + quoted(d.sensor) +
-             ", weight: " + num(d.weight) + "}\n";
-    }
+  o += "  unidentifiable:\n";
+  for (const UnidentifiableDirection& d : list) {
+    o += "    - parameters: [";
+    for (size_t k = 0; k < d.parameters.size(); ++k)
+      o += (k ? ", " : "") + quoted(d.parameters[k]);
+    o += "]\n      reason: " + quoted(d.reason) + "\n";
   }
+}
+
+void downweighted(std::string& o, const std::vector<DownweightedReading>& list) {
+  if (list.empty()) {
+    o += "  downweighted: []\n";
+    return;
+  }
+  o += "  downweighted:\n";
+  for (const DownweightedReading& d : list)
+    o += "    - {frame: " + std::to_string(d.frame) + ", sensor: " + quoted(d.sensor) +
+         ", weight: " + num(d.weight) + "}\n";
+}
+
+void summary(std::string& o, const CalibrationSummary& sm) {
+  o += "summary:\n";
+  o += "  method: " + scalar(sm.method.empty() ? "unknown" : sm.method) + "\n";
+  if (!sm.q_phase.empty()) o += "  q_phase: " + scalar(sm.q_phase) + "\n";
+  o += "  iterations: " + std::to_string(sm.iterations) + "\n";
+  o += "  converged: " + std::string(boolean(sm.converged)) + "\n";
+  o += "  initial_cost: " + num(sm.initial_cost) + "\n";
+  o += "  final_cost: " + num(sm.final_cost) + "\n";
+  o += "  frames: " + std::to_string(sm.frames) + "\n";
+  o += "  wall_time: " + num(sm.wall_time) + "\n";
+  o += "  sigma: " + perGroup(sm, sm.group_sigma) + "\n";
+  o += "  rms_before: " + perGroup(sm, sm.before_rms) + "\n";
+  o += "  rms_after: " + perGroup(sm, sm.after_rms) + "\n";
+  unidentifiable(o, sm.unidentifiable);
+  downweighted(o, sm.downweighted);
+}
+
+}  // namespace
+
+std::string sensorsToYaml(const SensorSet& s, const SensorParameters& th,
+                          const CalibrationResult* result) {
+  const Writer w(s, th, result);
+  std::string o;
+  if (result) o += "# Calibration written by stac_calib; feed it back with --sensors.\n";
+  // Empty sections are left out: the reader takes a missing one as empty.
+  if (!s.markers.empty()) w.mocap(o);
+  if (!s.joint_sensors.empty()) w.jointSensors(o);
+  if (!s.tendon_sensors.empty()) w.tendonSensors(o);
+  if (result) summary(o, result->summary);
   return o;
 }
 
