@@ -92,112 +92,155 @@ bool parsePlainRow(std::string_view row, size_t n, double* out) {
   return true;
 }
 
-}  // namespace
+// Reads the text line by line: the header, then one frame per data line,
+// each through the fast path first and through the careful one (which
+// names the bad cell) when the fast path does not take it.
+class LogParser {
+ public:
+  LogParser(const std::string& text, const std::string& source_name) : text_(text) {
+    log_.path = source_name;
+    if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) pos_ = 3;  // a UTF-8 byte order mark
+  }
 
-Log parseLog(const std::string& text, const std::string& source_name) {
-  Log log;
-  log.path = source_name;
-  std::vector<std::string> header;
-  int time_col = -1;
-  size_t pos = 0;
-  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) pos = 3;  // a UTF-8 byte order mark
-  int line = 0;
-  std::vector<double> values;  // row-major, grown row by row
-  std::vector<std::string_view> cells;
-  std::vector<double> row_buf;
-  while (pos < text.size()) {
-    size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
-    std::string_view row(text.data() + pos, end - pos);
-    pos = end + 1;
-    ++line;
-    const std::string_view t = trim(row);
-    if (t.empty() || t.front() == '#') continue;
-    if (!header.empty()) {
-      const size_t n = header.size();
-      row_buf.resize(n);
-      if (parsePlainRow(row, n, row_buf.data())) {
-        if (time_col >= 0 && std::isnan(row_buf[time_col]))
-          throw InputError(log.path, line, time_col + 1,
-                           "column '" + header[time_col] + "': the time is missing");
-        for (size_t c = 0; c < n; ++c) {
-          if (static_cast<int>(c) == time_col)
-            log.time.push_back(row_buf[c]);
-          else
-            values.push_back(row_buf[c]);
-        }
-        log.line_of_frame.push_back(line);
-        continue;
-      }
+  Log parse() && {
+    std::string_view row;
+    while (nextLine(&row)) {
+      const std::string_view t = trim(row);
+      if (t.empty() || t.front() == '#') continue;
+      if (!header_.empty() && readPlainRow(row)) continue;
+      splitCells(row);
+      if (header_.empty())
+        readHeader();
+      else
+        readRow();
     }
-    cells.clear();
+    if (header_.empty()) throw InputError(log_.path, "the log is empty: no header line");
+    const Eigen::Index rows = static_cast<Eigen::Index>(log_.line_of_frame.size());
+    const Eigen::Index cols = static_cast<Eigen::Index>(log_.columns.size());
+    log_.values = Eigen::Map<RowMatrix>(values_.data(), rows, cols);
+    return std::move(log_);
+  }
+
+ private:
+  bool nextLine(std::string_view* row) {
+    if (pos_ >= text_.size()) return false;
+    size_t end = text_.find('\n', pos_);
+    if (end == std::string::npos) end = text_.size();
+    *row = std::string_view(text_.data() + pos_, end - pos_);
+    pos_ = end + 1;
+    ++line_;
+    return true;
+  }
+
+  bool readPlainRow(std::string_view row) {
+    row_buf_.resize(header_.size());
+    if (!parsePlainRow(row, header_.size(), row_buf_.data())) return false;
+    if (time_col_ >= 0 && std::isnan(row_buf_[time_col_])) missingTime();
+    appendFrame();
+    return true;
+  }
+
+  void splitCells(std::string_view row) {
+    cells_.clear();
     size_t start = 0;
     while (true) {
       const size_t comma = row.find(',', start);
       if (comma == std::string_view::npos) {
-        cells.push_back(row.substr(start));
+        cells_.push_back(row.substr(start));
         break;
       }
-      cells.push_back(row.substr(start, comma - start));
+      cells_.push_back(row.substr(start, comma - start));
       start = comma + 1;
     }
-    if (header.empty()) {
-      std::set<std::string> seen;
-      for (size_t c = 0; c < cells.size(); ++c) {
-        const std::string name(trim(cells[c]));
-        if (name.empty())
-          throw InputError(log.path, line, static_cast<int>(c + 1), "empty column name in the header");
-        if (!seen.insert(name).second)
-          throw InputError(log.path, line, static_cast<int>(c + 1),
-                           "column '" + name + "' appears twice in the header");
-        if (isTimeName(name)) {
-          if (time_col >= 0)
-            throw InputError(log.path, line, static_cast<int>(c + 1),
-                             "two time columns ('" + header[time_col] + "' and '" + name + "')");
-          time_col = static_cast<int>(c);
-          log.time_name = name;
-        }
-        header.push_back(name);
-      }
-      for (size_t c = 0; c < header.size(); ++c)
-        if (static_cast<int>(c) != time_col) log.columns.push_back(header[c]);
-      log.header_line = line;
-      // At most one frame per remaining line: reserve once.
-      const size_t lines_left =
-          static_cast<size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(std::min(pos, text.size())),
-                                         text.end(), '\n')) + 1;
-      values.reserve(lines_left * log.columns.size());
-      if (time_col >= 0) log.time.reserve(lines_left);
-      log.line_of_frame.reserve(lines_left);
-      continue;
-    }
-    if (cells.size() != header.size()) {
-      const size_t col = std::min(cells.size(), header.size());
-      throw InputError(log.path, line, static_cast<int>(col + 1),
-                       "the row has " + std::to_string(cells.size()) + " cells, the header has " +
-                           std::to_string(header.size()) +
-                           (cells.size() < header.size()
-                                ? " (no cell for column '" + header[col] + "')"
-                                : " (a cell beyond the last column '" + header.back() + "')"));
-    }
-    for (size_t c = 0; c < cells.size(); ++c) {
-      const double v = parseCell(cells[c], log, line, static_cast<int>(c + 1), header[c]);
-      if (static_cast<int>(c) == time_col) {
-        if (std::isnan(v))
-          throw InputError(log.path, line, static_cast<int>(c + 1),
-                           "column '" + header[c] + "': the time is missing");
-        log.time.push_back(v);
-      } else {
-        values.push_back(v);
-      }
-    }
-    log.line_of_frame.push_back(line);
   }
-  if (header.empty()) throw InputError(log.path, "the log is empty: no header line");
-  const Eigen::Index rows = static_cast<Eigen::Index>(log.line_of_frame.size());
-  const Eigen::Index cols = static_cast<Eigen::Index>(log.columns.size());
-  log.values = Eigen::Map<RowMatrix>(values.data(), rows, cols);
-  return log;
+
+  void readHeader() {
+    std::set<std::string> seen;
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      const std::string name(trim(cells_[c]));
+      if (name.empty())
+        throw InputError(log_.path, line_, static_cast<int>(c + 1),
+                         "empty column name in the header");
+      if (!seen.insert(name).second)
+        throw InputError(log_.path, line_, static_cast<int>(c + 1),
+                         "column '" + name + "' appears twice in the header");
+      if (isTimeName(name)) {
+        if (time_col_ >= 0)
+          throw InputError(log_.path, line_, static_cast<int>(c + 1),
+                           "two time columns ('" + header_[time_col_] + "' and '" + name + "')");
+        time_col_ = static_cast<int>(c);
+        log_.time_name = name;
+      }
+      header_.push_back(name);
+    }
+    for (size_t c = 0; c < header_.size(); ++c)
+      if (static_cast<int>(c) != time_col_) log_.columns.push_back(header_[c]);
+    log_.header_line = line_;
+    reserveFrames();
+  }
+
+  // At most one frame per remaining line: reserve once.
+  void reserveFrames() {
+    const auto rest = text_.begin() + static_cast<std::ptrdiff_t>(std::min(pos_, text_.size()));
+    const size_t lines_left = static_cast<size_t>(std::count(rest, text_.end(), '\n')) + 1;
+    values_.reserve(lines_left * log_.columns.size());
+    if (time_col_ >= 0) log_.time.reserve(lines_left);
+    log_.line_of_frame.reserve(lines_left);
+  }
+
+  // The careful path: every cell on its own, so that an error names it.
+  void readRow() {
+    checkCellCount();
+    row_buf_.resize(cells_.size());
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      row_buf_[c] = parseCell(cells_[c], log_, line_, static_cast<int>(c + 1), header_[c]);
+      if (static_cast<int>(c) == time_col_ && std::isnan(row_buf_[c])) missingTime();
+    }
+    appendFrame();
+  }
+
+  void checkCellCount() const {
+    if (cells_.size() == header_.size()) return;
+    const size_t col = std::min(cells_.size(), header_.size());
+    throw InputError(log_.path, line_, static_cast<int>(col + 1),
+                     "the row has " + std::to_string(cells_.size()) + " cells, the header has " +
+                         std::to_string(header_.size()) +
+                         (cells_.size() < header_.size()
+                              ? " (no cell for column '" + header_[col] + "')"
+                              : " (a cell beyond the last column '" + header_.back() + "')"));
+  }
+
+  [[noreturn]] void missingTime() const {
+    throw InputError(log_.path, line_, time_col_ + 1,
+                     "column '" + header_[time_col_] + "': the time is missing");
+  }
+
+  // Moves the frame in row_buf_ (one value per header column) into the log.
+  void appendFrame() {
+    for (size_t c = 0; c < header_.size(); ++c) {
+      if (static_cast<int>(c) == time_col_)
+        log_.time.push_back(row_buf_[c]);
+      else
+        values_.push_back(row_buf_[c]);
+    }
+    log_.line_of_frame.push_back(line_);
+  }
+
+  const std::string& text_;
+  size_t pos_ = 0;
+  int line_ = 0;
+  Log log_;
+  std::vector<std::string> header_;
+  int time_col_ = -1;
+  std::vector<double> values_;  // row-major, grown row by row
+  std::vector<std::string_view> cells_;
+  std::vector<double> row_buf_;
+};
+
+}  // namespace
+
+Log parseLog(const std::string& text, const std::string& source_name) {
+  return LogParser(text, source_name).parse();
 }
 
 Log readLog(const std::string& path) { return parseLog(readTextFile(path), path); }
@@ -240,21 +283,100 @@ void writeLog(const std::string& path, const Log& log) {
   writeFileAtomically(path, out);
 }
 
-Observations bindLog(const Log& log, const SensorSet& sensors, const std::string& sensors_source,
-                     double mocap_scale) {
-  std::map<std::string, int> column;
-  for (size_t c = 0; c < log.columns.size(); ++c) column[log.columns[c]] = static_cast<int>(c);
-  std::set<std::string> used;
-  std::vector<std::string> missing;
-  auto take = [&](const std::string& name) {
-    auto it = column.find(name);
-    if (it == column.end()) {
-      missing.push_back(name);
+namespace {
+
+// The log's columns by name, handed out to the sensors that read them. It
+// notes what was taken and what the log lacks, so that one error can list
+// every mismatch at once.
+class ColumnTaker {
+ public:
+  explicit ColumnTaker(const std::vector<std::string>& columns) {
+    for (size_t c = 0; c < columns.size(); ++c) column_[columns[c]] = static_cast<int>(c);
+  }
+
+  // The column's index, or -1 (and the name noted as missing).
+  int take(const std::string& name) {
+    auto it = column_.find(name);
+    if (it == column_.end()) {
+      missing_.push_back(name);
       return -1;
     }
-    used.insert(name);
+    used_.insert(name);
     return it->second;
-  };
+  }
+
+  const std::vector<std::string>& missing() const { return missing_; }
+
+  std::vector<std::string> unused(const std::vector<std::string>& columns) const {
+    std::vector<std::string> extra;
+    for (const std::string& c : columns)
+      if (!used_.count(c)) extra.push_back(c);
+    return extra;
+  }
+
+ private:
+  std::map<std::string, int> column_;
+  std::set<std::string> used_;
+  std::vector<std::string> missing_;
+};
+
+// Marker m's x, y, z into columns 3m..3m+2 of *out, in metres; a marker
+// missing any coordinate is missing as a whole (SPEC §2).
+void bindMarkers(const Log& log, const std::vector<MarkerConfig>& markers, double mocap_scale,
+                 ColumnTaker& columns, RowMatrix* out) {
+  for (size_t m = 0; m < markers.size(); ++m) {
+    const int cx = columns.take(markers[m].name + ".x");
+    const int cy = columns.take(markers[m].name + ".y");
+    const int cz = columns.take(markers[m].name + ".z");
+    if (cx < 0 || cy < 0 || cz < 0) continue;
+    for (int t = 0; t < log.numFrames(); ++t) {
+      const double x = log.values(t, cx), y = log.values(t, cy), z = log.values(t, cz);
+      const bool miss = std::isnan(x) || std::isnan(y) || std::isnan(z);
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      (*out)(t, 3 * m) = miss ? nan : x * mocap_scale;
+      (*out)(t, 3 * m + 1) = miss ? nan : y * mocap_scale;
+      (*out)(t, 3 * m + 2) = miss ? nan : z * mocap_scale;
+    }
+  }
+}
+
+// Joint or tendon sensors: one column each, sensor s into column s of *out.
+template <class SensorConfig>
+void bindScalarSensors(const Log& log, const std::vector<SensorConfig>& sensors,
+                       ColumnTaker& columns, RowMatrix* out) {
+  for (size_t s = 0; s < sensors.size(); ++s) {
+    const int c = columns.take(sensors[s].name);
+    if (c >= 0) out->col(s) = log.values.col(c);
+  }
+}
+
+// Names for an error message, cut short so that a wide log stays readable.
+std::string nameList(const std::vector<std::string>& v) {
+  constexpr size_t kShown = 30;
+  std::string s;
+  for (size_t i = 0; i < v.size() && i < kShown; ++i) s += (i ? ", " : "") + v[i];
+  if (v.size() > kShown) s += ", ... (" + std::to_string(v.size()) + " in all)";
+  return s;
+}
+
+// Both directions of a log/sensors mismatch in one sentence; "" if none.
+std::string columnMismatch(const std::vector<std::string>& missing,
+                           const std::vector<std::string>& extra,
+                           const std::string& sensors_source) {
+  std::string problem;
+  if (!missing.empty())
+    problem = "the log has no column for " + nameList(missing) + " (sensors defined in " +
+              sensors_source + ")";
+  if (!extra.empty())
+    problem += (problem.empty() ? "" : "; ") + std::string("column(s) ") + nameList(extra) +
+               " belong to no sensor in " + sensors_source;
+  return problem;
+}
+
+}  // namespace
+
+Observations bindLog(const Log& log, const SensorSet& sensors, const std::string& sensors_source,
+                     double mocap_scale) {
   const int T = log.numFrames();
   Observations obs;
   obs.num_frames = T;
@@ -263,45 +385,12 @@ Observations bindLog(const Log& log, const SensorSet& sensors, const std::string
   obs.marker.resize(T, 3 * static_cast<Eigen::Index>(sensors.markers.size()));
   obs.joint.resize(T, static_cast<Eigen::Index>(sensors.joint_sensors.size()));
   obs.tendon.resize(T, static_cast<Eigen::Index>(sensors.tendon_sensors.size()));
-  for (size_t m = 0; m < sensors.markers.size(); ++m) {
-    const int cx = take(sensors.markers[m].name + ".x");
-    const int cy = take(sensors.markers[m].name + ".y");
-    const int cz = take(sensors.markers[m].name + ".z");
-    if (cx < 0 || cy < 0 || cz < 0) continue;
-    for (int t = 0; t < T; ++t) {
-      const double x = log.values(t, cx), y = log.values(t, cy), z = log.values(t, cz);
-      const bool miss = std::isnan(x) || std::isnan(y) || std::isnan(z);
-      const double nan = std::numeric_limits<double>::quiet_NaN();
-      obs.marker(t, 3 * m) = miss ? nan : x * mocap_scale;
-      obs.marker(t, 3 * m + 1) = miss ? nan : y * mocap_scale;
-      obs.marker(t, 3 * m + 2) = miss ? nan : z * mocap_scale;
-    }
-  }
-  for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
-    const int c = take(sensors.joint_sensors[s].name);
-    if (c >= 0) obs.joint.col(s) = log.values.col(c);
-  }
-  for (size_t s = 0; s < sensors.tendon_sensors.size(); ++s) {
-    const int c = take(sensors.tendon_sensors[s].name);
-    if (c >= 0) obs.tendon.col(s) = log.values.col(c);
-  }
-  std::vector<std::string> extra;
-  for (const std::string& c : log.columns)
-    if (!used.count(c)) extra.push_back(c);
-  auto list = [](const std::vector<std::string>& v) {
-    constexpr size_t kShown = 30;
-    std::string s;
-    for (size_t i = 0; i < v.size() && i < kShown; ++i) s += (i ? ", " : "") + v[i];
-    if (v.size() > kShown) s += ", ... (" + std::to_string(v.size()) + " in all)";
-    return s;
-  };
-  std::string problem;
-  if (!missing.empty())
-    problem = "the log has no column for " + list(missing) + " (sensors defined in " +
-              sensors_source + ")";
-  if (!extra.empty())
-    problem += (problem.empty() ? "" : "; ") + std::string("column(s) ") + list(extra) +
-               " belong to no sensor in " + sensors_source;
+  ColumnTaker columns(log.columns);
+  bindMarkers(log, sensors.markers, mocap_scale, columns, &obs.marker);
+  bindScalarSensors(log, sensors.joint_sensors, columns, &obs.joint);
+  bindScalarSensors(log, sensors.tendon_sensors, columns, &obs.tendon);
+  const std::string problem =
+      columnMismatch(columns.missing(), columns.unused(log.columns), sensors_source);
   if (!problem.empty()) throw InputError(log.path, log.header_line, 0, problem);
   return obs;
 }
