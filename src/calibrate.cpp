@@ -29,7 +29,7 @@
 #include "stac/schur.hpp"
 #include "stac/theta_phase.hpp"
 #include "stac/uncertainty.hpp"
-#include "wide_basin.hpp"
+#include "methods/wide_basin.hpp"
 
 namespace stac {
 

@@ -17,7 +17,7 @@
 #include "stac/frame_jacobian.hpp"
 #include "stac/parallel.hpp"
 #include "stac/uncertainty.hpp"
-#include "wide_basin.hpp"
+#include "methods/wide_basin.hpp"
 
 namespace stac {
 

@@ -9,7 +9,7 @@
 #include "stac/calibrate.hpp"
 #include "stac/parallel.hpp"
 #include "stac/q_phase.hpp"
-#include "wide_basin.hpp"
+#include "methods/wide_basin.hpp"
 
 namespace stac {
 

@@ -1,7 +1,7 @@
 // Wide-basin initialisation (see calibrate.cpp's header comment): pots'
 // readings mapped onto their joint ranges with signs chosen by the markers,
 // closed-form mocap frame and markers, then a marker-led alternation.
-#include "wide_basin.hpp"
+#include "methods/wide_basin.hpp"
 
 #include <algorithm>
 #include <cmath>
