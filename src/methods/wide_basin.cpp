@@ -5,8 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
+#include <utility>
 
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
@@ -23,16 +22,31 @@ constexpr double kCoverageScales[] = {1.0, 0.5, 0.25, 0.125};
 // guessed maps' scales are rough, so the markers lead q and the pots'
 // θ-phase fits gains to marker-driven angles rather than to themselves.
 constexpr double kInitPotWeight = 0.01;
+// Frames of the candidate search and of the coupled re-check.
+constexpr int kSearchFrames = 150;
 
-// The joint angle a one-joint sensor implies if the log spans 80% of the
-// joint's range: q = alpha (p - mean p) + mid. Such a guess has the right
-// time course; alpha's sign and scale are unknown, and greedy sweeps pick
-// each by how well the markers then fit.
-struct PotGuess {
-  int sensor = -1;   // joint sensor index
-  int column = -1;   // q index
-  double alpha = 0, mean = 0, mid = 0;
-};
+bool hasFreeMarkerGroup(const SensorSet& sensors) {
+  return !sensors.markers.empty() &&
+         (!sensors.mocap_frame_fixed ||
+          std::any_of(sensors.markers.begin(), sensors.markers.end(),
+                      [](const MarkerConfig& m) { return !m.fixed; }));
+}
+
+// The search scores by the markers alone.
+EvalOptions markersOnly() {
+  EvalOptions eval;
+  eval.group_weight[1] = eval.group_weight[2] = 0.0;
+  return eval;
+}
+
+double median(std::vector<double>* v) {
+  std::nth_element(v->begin(), v->begin() + v->size() / 2, v->end());
+  return (*v)[v->size() / 2];
+}
+
+}  // namespace
+
+// ---- Pot guesses and candidates ----
 
 std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& sensors,
                                      const SensorParameters& theta, const Observations& obs) {
@@ -55,17 +69,18 @@ std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& s
     PotGuess g;
     g.sensor = static_cast<int>(s);
     g.column = mj.q_index;
+    g.fixed = sc.fixed;
     g.mean = sum / n;
-    g.mid = 0.5 * (lo + hi);
+    g.map.mid = 0.5 * (lo + hi);
     if (sc.fixed) {
       // Known calibration: the exact inverse.
       const GainBias& gb = theta.joint_sensor[s];
       if (gb.gain == 0) continue;
-      g.alpha = 1.0 / gb.gain;
-      g.mid = (g.mean - gb.bias) / gb.gain;
+      g.map.alpha = 1.0 / gb.gain;
+      g.map.mid = (g.mean - gb.bias) / gb.gain;
     } else {
       if (!(pmax > pmin)) continue;
-      g.alpha = 0.8 * (hi - lo) / (pmax - pmin);
+      g.map.alpha = 0.8 * (hi - lo) / (pmax - pmin);
     }
     covered[mj.q_index] = true;
     out.push_back(g);
@@ -73,20 +88,105 @@ std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& s
   return out;
 }
 
-void applyPotGuesses(const std::vector<PotGuess>& guesses, const Observations& obs,
-                     RowMatrix* q) {
-  for (const PotGuess& g : guesses) {
-    double last = g.mid;
+Candidate guessedMaps(const std::vector<PotGuess>& guesses) {
+  Candidate c;
+  for (const PotGuess& g : guesses) c.maps.push_back(g.map);
+  return c;
+}
+
+void applyCandidate(const std::vector<PotGuess>& guesses, const Candidate& candidate,
+                    const Observations& obs, RowMatrix* q) {
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const PotGuess& g = guesses[i];
+    const PotMap& map = candidate.maps[i];
+    double last = map.mid;
     for (int t = 0; t < obs.num_frames; ++t) {
       const double p = obs.joint(t, g.sensor);
-      if (!std::isnan(p)) last = g.alpha * (p - g.mean) + g.mid;
+      if (!std::isnan(p)) last = map.alpha * (p - g.mean) + map.mid;
       (*q)(t, g.column) = last;
     }
   }
 }
 
-// Mirrors joint angle column `g.column` about its mean and flips the sign
-// of its pot's map so that every prediction stays the same:
+Candidate withSigns(const Candidate& c, const std::vector<PotGuess>& guesses,
+                    const std::vector<bool>& flip) {
+  Candidate out = c;
+  for (size_t i = 0; i < guesses.size(); ++i)
+    if (flip[i] && !guesses[i].fixed) out.maps[i].alpha = -out.maps[i].alpha;
+  return out;
+}
+
+Candidate scaled(const Candidate& c, const std::vector<PotGuess>& guesses, double s) {
+  Candidate out = c;
+  for (size_t i = 0; i < guesses.size(); ++i)
+    if (!guesses[i].fixed) out.maps[i].alpha *= s;
+  return out;
+}
+
+Candidate seededMaps(const Candidate& c, const std::vector<PotGuess>& guesses,
+                     const SensorParameters& seed) {
+  // A fixed guess's map is this inverse already.
+  Candidate out = c;
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const GainBias& gb = seed.joint_sensor[guesses[i].sensor];
+    if (gb.gain == 0 || !std::isfinite(gb.gain)) continue;
+    out.maps[i].alpha = 1.0 / gb.gain;
+    out.maps[i].mid = (guesses[i].mean - gb.bias) / gb.gain;
+  }
+  return out;
+}
+
+Candidate flipped(const Candidate& c, const std::vector<int>& move) {
+  Candidate out = c;
+  for (int i : move) out.maps[i].alpha = -out.maps[i].alpha;
+  return out;
+}
+
+bool touchesFixed(const std::vector<PotGuess>& guesses, const std::vector<int>& move) {
+  return std::any_of(move.begin(), move.end(), [&](int i) { return guesses[i].fixed; });
+}
+
+Candidate rescaled(const Candidate& c, int i, double s) {
+  Candidate out = c;
+  out.maps[i].alpha *= s;
+  return out;
+}
+
+std::vector<std::vector<bool>> mirrorPatterns(const RobotModel& robot,
+                                              const std::vector<PotGuess>& guesses) {
+  KinematicsWorkspace kin(robot);
+  forwardKinematics(robot, neutralPose(robot), &kin);
+  std::vector<std::vector<bool>> patterns(4, std::vector<bool>(guesses.size(), true));
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const Eigen::Vector3d u = kin.joint_axis[robot.qJoints()[guesses[i].column]].normalized();
+    for (int a = 0; a < 3; ++a) patterns[1 + a][i] = std::abs(u[a]) < 0.7;
+  }
+  return patterns;
+}
+
+// Two wrong signs in a row (e.g. a wrist's pitch and roll) can each look
+// right alone, since flipping either one by itself moves the markers
+// farther: hence the pairs.
+std::vector<std::vector<int>> signMoves(const RobotModel& robot,
+                                        const std::vector<PotGuess>& guesses) {
+  std::vector<std::vector<int>> moves;
+  std::vector<int> guess_of_q(robot.dof(), -1);
+  for (size_t i = 0; i < guesses.size(); ++i) guess_of_q[guesses[i].column] = static_cast<int>(i);
+  for (size_t i = 0; i < guesses.size(); ++i) moves.push_back({static_cast<int>(i)});
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const int movable = robot.qJoints()[guesses[i].column];
+    const std::vector<int>& chain =
+        robot.supportingJoints(robot.movableJoints()[movable].child_link);
+    for (int k = static_cast<int>(chain.size()) - 2; k >= 0; --k) {
+      const MovableJoint& above = robot.movableJoints()[chain[k]];
+      if (above.is_mimic || guess_of_q[above.q_index] < 0) continue;
+      moves.push_back({guess_of_q[above.q_index], static_cast<int>(i)});
+      break;
+    }
+  }
+  return moves;
+}
+
 // p = g q + b = (-g) (2c - q) + (b + 2 g c).
 void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
   const double c = q->col(g.column).mean();
@@ -96,11 +196,10 @@ void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
   gb.gain = -gb.gain;
 }
 
-// Whether some marker or pot fits clearly worse than its noise: its median
-// residual over the frames more than twice what Gaussian noise of its σ
-// gives (a marker's Euclidean distance: 1.54 σ; a pot: 0.67 σ). Medians, so
-// that gross outliers do not count: a sign chosen wrong shows in every
-// frame.
+// Misfit: a median residual over the frames more than twice what Gaussian
+// noise of the sensor's σ gives (a marker's Euclidean distance: 1.54 σ; a
+// pot: 0.67 σ). Medians, so that gross outliers do not count: a sign chosen
+// wrong shows in every frame.
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const Observations& obs, const RowMatrix& q) {
   const SensorSet& sensors = model.sensors();
@@ -113,17 +212,14 @@ bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& th
   for (int t = 0; t < obs.num_frames; ++t) {
     predictFrame(model, theta, q.row(t).transpose(), &kin, pm.data(), pj.data(), pt.data());
     for (int m = 0; m < M; ++m) {
-      const Eigen::Vector3d x(obs.marker(t, 3 * m), obs.marker(t, 3 * m + 1), obs.marker(t, 3 * m + 2));
+      const Eigen::Vector3d x(obs.marker(t, 3 * m), obs.marker(t, 3 * m + 1),
+                              obs.marker(t, 3 * m + 2));
       if (x.allFinite())
         marker[m].push_back((x - Eigen::Vector3d(pm[3 * m], pm[3 * m + 1], pm[3 * m + 2])).norm());
     }
     for (int j = 0; j < J; ++j)
       if (!std::isnan(obs.joint(t, j))) joint[j].push_back(std::abs(obs.joint(t, j) - pj[j]));
   }
-  auto median = [](std::vector<double>* v) {
-    std::nth_element(v->begin(), v->begin() + v->size() / 2, v->end());
-    return (*v)[v->size() / 2];
-  };
   for (int m = 0; m < M; ++m)
     if (!marker[m].empty() && median(&marker[m]) > 2.0 * 1.54 * noise.marker[m]) return true;
   for (int j = 0; j < J; ++j)
@@ -131,306 +227,262 @@ bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& th
   return false;
 }
 
+// ---- WideBasin ----
+
+WideBasin::WideBasin(const MeasurementModel& model, const Observations& obs,
+                     const NoiseModel& noise, const RobustLoss& loss, int threads,
+                     std::vector<FrameWorkspace>* ws, const SensorParameters& seed,
+                     bool coupled_steps)
+    : model_(model),
+      obs_(obs),
+      noise_(noise),
+      loss_(loss),
+      threads_(threads),
+      ws_(ws),
+      seed_(seed),
+      coupled_steps_(coupled_steps),
+      marker_group_free_(hasFreeMarkerGroup(model.sensors())),
+      guesses_(makePotGuesses(model.robot(), model.sensors(), seed, obs)),
+      moves_(signMoves(model.robot(), guesses_)),
+      sub_frames_(spreadFrames(obs.num_frames, kSearchFrames)),
+      sub_(selectFrames(obs, sub_frames_)) {
+  free_only_.method = QPhaseMethod::kLmBatch;
+  free_only_.max_steps = 4;
+  free_only_.step_tolerance = 1e-6;  // a score, not a fit
+  free_only_.threads = threads;
+  free_only_.eval = markersOnly();
+  free_only_.frozen.assign(model.dof(), false);
+  for (const PotGuess& g : guesses_) free_only_.frozen[g.column] = true;
+  for (int j = 0; j < model.dof(); ++j) any_free_ |= !free_only_.frozen[j];
+}
+
+// The joints no pot covers (gimbals driven by linear pots, say) follow the
+// markers by a few LM steps from where the search's best left them.
+ScoredCandidate WideBasin::score(const Candidate& c, const SearchState& from) const {
+  ScoredCandidate out;
+  QState& ss = out.state;
+  ss.q = from.warm_q;
+  ss.lambda = from.damping;
+  applyCandidate(guesses_, c, sub_, &ss.q);
+  SensorParameters th = seed_;
+  if (marker_group_free_) {
+    ThetaPhaseOptions to;
+    to.threads = threads_;
+    to.update[1] = to.update[2] = false;
+    initialiseMarkerGroup(model_, sub_, ss, 2, threads_, ws_, &th);
+    thetaPhase(model_, noise_, loss_, sub_, ss, to, ws_, &th);
+  }
+  if (any_free_) qPhase(model_, th, noise_, loss_, sub_, free_only_, ws_, &ss);
+  out.cost = totalCost(model_, th, noise_, loss_, sub_, free_only_.eval, threads_, ws_, &ss);
+  return out;
+}
+
+SearchState WideBasin::startSearch(const Candidate& c) const {
+  SearchState s;
+  s.warm_q = neutralPose(model_.robot()).transpose().replicate(sub_.num_frames, 1);
+  ScoredCandidate first = score(c, s);
+  s.best = c;
+  s.cost = first.cost;
+  s.warm_q = std::move(first.state.q);
+  s.damping = std::move(first.state.lambda);
+  return s;
+}
+
+bool WideBasin::offer(const Candidate& c, double factor, SearchState* s) const {
+  ScoredCandidate trial = score(c, *s);
+  s->damping = std::move(trial.state.lambda);
+  if (!(trial.cost < factor * s->cost)) return false;
+  s->best = c;
+  s->cost = trial.cost;
+  s->warm_q = std::move(trial.state.q);
+  return true;
+}
+
+// Tried before the greedy single-sign sweeps. The 80%-coverage scale is a
+// guess too: a log that moves each joint through a fifth of a ±2π range (a
+// UR arm's) needs a map 4x narrower, so each pattern is scored at a few
+// common scales.
+void WideBasin::mirrorSweep(SearchState* s) const {
+  const std::vector<std::vector<bool>> patterns = mirrorPatterns(model_.robot(), guesses_);
+  const Candidate base = s->best;
+  for (double scale : kCoverageScales) {
+    const Candidate at_scale = scaled(base, guesses_, scale);
+    offer(at_scale, 1.0, s);
+    for (const std::vector<bool>& pattern : patterns)
+      offer(withSigns(at_scale, guesses_, pattern), 1.0, s);
+  }
+}
+
+// A user's rough calibration (or a previous one) must not lose to the
+// guesses.
+void WideBasin::seedCheck(SearchState* s) const {
+  offer(seededMaps(s->best, guesses_, seed_), 1.0, s);
+}
+
+bool WideBasin::signSweeps(SearchState* s) const {
+  bool any = false;
+  for (int sweep = 0; sweep < 3; ++sweep) {
+    bool changed = false;
+    for (const std::vector<int>& move : moves_) {
+      if (touchesFixed(guesses_, move)) continue;
+      // Two signs at once only for a clear gain: with outliers in the data
+      // a double mirror can score marginally better by chance.
+      changed |= offer(flipped(s->best, move), move.size() > 1 ? 0.95 : 1.0, s);
+    }
+    any |= changed;
+    if (!changed) break;
+  }
+  return any;
+}
+
+// Joints of one log rarely cover their ranges alike.
+bool WideBasin::rescaleSweep(SearchState* s) const {
+  bool changed = false;
+  for (size_t i = 0; i < guesses_.size(); ++i) {
+    if (guesses_[i].fixed) continue;
+    for (double f : {0.5, 2.0})
+      for (int step = 0; step < 3; ++step) {
+        if (!offer(rescaled(s->best, static_cast<int>(i), f), 0.98, s)) break;
+        changed = true;
+      }
+  }
+  return changed;
+}
+
+Candidate WideBasin::searchPotMaps() const {
+  SearchState s = startSearch(guessedMaps(guesses_));
+  mirrorSweep(&s);
+  seedCheck(&s);
+  // Signs first (with wrong signs a narrower map always fits better), then
+  // each guess's own scale, then signs again if a scale changed.
+  signSweeps(&s);
+  if (rescaleSweep(&s)) signSweeps(&s);
+  return s.best;
+}
+
+void WideBasin::adoptPotMaps(const Candidate& c, Estimate* est) const {
+  applyCandidate(guesses_, c, obs_, &est->state.q);
+  for (size_t i = 0; i < guesses_.size(); ++i) {
+    const PotGuess& g = guesses_[i];
+    if (g.fixed) continue;
+    GainBias& gb = est->theta.joint_sensor[g.sensor];
+    gb.gain = 1.0 / c.maps[i].alpha;
+    gb.bias = g.mean - c.maps[i].mid / c.maps[i].alpha;
+  }
+}
+
+void WideBasin::alternate(double pot_weight, double tol, Estimate* est) const {
+  QPhaseOptions qo;
+  qo.method = QPhaseMethod::kLmIter;
+  qo.threads = threads_;
+  qo.eval.group_weight[1] = pot_weight;
+  qo.eval.group_weight[2] = 0.0;
+  ThetaPhaseOptions to;
+  to.threads = threads_;
+  to.update[1] = !guesses_.empty();  // pots carry their guessed maps
+  to.update[2] = false;
+  double prev = -1;
+  for (int it = 0; it < 30; ++it) {
+    double c = 0;
+    if (it < 2 && guesses_.empty()) {
+      // No pot to guess from: track through time from the neutral pose
+      // (twice: the second time with the mocap frame and markers the
+      // first pass allowed).
+      QPhaseOptions tr = qo;
+      tr.method = QPhaseMethod::kLmBatch;
+      tr.max_steps = 20;
+      c = trackingPass(model_, est->theta, noise_, loss_, obs_, tr, neutralPose(model_.robot()),
+                       32, ws_, &est->state);
+    } else {
+      c = qPhase(model_, est->theta, noise_, loss_, obs_, qo, ws_, &est->state);
+    }
+    if (marker_group_free_ || !guesses_.empty())
+      thetaPhase(model_, noise_, loss_, obs_, est->state, to, ws_, &est->theta);
+    // Coupled steps once the alternation stalls (they cost more).
+    if (coupled_steps_ && prev > 0 && prev - c < 1e-2 * prev)
+      c = coupledStep(model_, noise_, loss_, obs_, threads_, ws_, &est->coupled_lambda,
+                      &est->theta, &est->state, qo.eval, true);
+    if (prev > 0 && std::abs(prev - c) <= tol * prev) break;
+    prev = c;
+  }
+}
+
+// A candidate's worth: the cost after a few alternations on the subsample.
+double WideBasin::refinedCost(SensorParameters th, QState st) const {
+  QPhaseOptions qo;
+  qo.method = QPhaseMethod::kLmIter;
+  qo.threads = threads_;
+  ThetaPhaseOptions to;
+  to.threads = threads_;
+  double c = 0;
+  for (int it = 0; it < 2; ++it) {
+    c = qPhase(model_, th, noise_, loss_, sub_, qo, ws_, &st);
+    thetaPhase(model_, noise_, loss_, sub_, st, to, ws_, &th);
+  }
+  // Coupled steps converge in a few iterations where the alternation crawls.
+  double lambda = 1e-3;
+  for (int it = 0; it < 5; ++it)
+    c = coupledStep(model_, noise_, loss_, sub_, threads_, ws_, &lambda, &th, &st, qo.eval, true);
+  return c;
+}
+
 // After the initial alternation: if a marker or pot still fits far worse
 // than its noise, the likeliest cause is a pot whose sign the marker-only
 // scoring above got wrong (a joint that moves its markers little, e.g. a
-// wrist with markers close to its axes). Each sign change of `moves`, tried
-// on 150 frames from the current estimate and refined by a few alternations,
-// is kept if it lowers the cost clearly. Returns whether any was kept.
-bool verifySigns(const MeasurementModel& model, const Observations& obs, const NoiseModel& noise,
-                 const RobustLoss& loss, int threads, std::vector<FrameWorkspace>* ws,
-                 const std::vector<PotGuess>& guesses,
-                 const std::vector<std::vector<int>>& moves, SensorParameters* theta,
-                 QState* state) {
-  const std::vector<int> sub = spreadFrames(obs.num_frames, 150);
-  const Observations so = selectFrames(obs, sub);
+// wrist with markers close to its axes). Each sign move, tried on the
+// subsample from the current estimate and refined by a few alternations,
+// is kept if it lowers the cost clearly.
+bool WideBasin::recheckSigns(Estimate* est) const {
   QState ss;
-  ss.q = RowMatrix(so.num_frames, model.dof());
-  for (int i = 0; i < so.num_frames; ++i) ss.q.row(i) = state->q.row(sub[i]);
-  if (!someSensorMisfits(model, *theta, noise, so, ss.q)) return false;
-
-  // A candidate's worth: the cost after a few alternations on the subsample.
-  QPhaseOptions qo;
-  qo.method = QPhaseMethod::kLmIter;
-  qo.threads = threads;
-  ThetaPhaseOptions to;
-  to.threads = threads;
-  auto refined = [&](SensorParameters th, QState st) {
-    double c = 0;
-    for (int it = 0; it < 2; ++it) {
-      c = qPhase(model, th, noise, loss, so, qo, ws, &st);
-      thetaPhase(model, noise, loss, so, st, to, ws, &th);
-    }
-    // Coupled steps converge in a few iterations where the alternation crawls.
-    double lambda = 1e-3;
-    for (int it = 0; it < 5; ++it)
-      c = coupledStep(model, noise, loss, so, threads, ws, &lambda, &th, &st, qo.eval, true);
-    return c;
-  };
-  bool flipped = false;
-  double base = refined(*theta, ss);
+  ss.q = RowMatrix(sub_.num_frames, model_.dof());
+  for (int i = 0; i < sub_.num_frames; ++i) ss.q.row(i) = est->state.q.row(sub_frames_[i]);
+  if (!someSensorMisfits(model_, est->theta, noise_, sub_, ss.q)) return false;
+  bool flipped_any = false;
+  double base = refinedCost(est->theta, ss);
   for (int sweep = 0; sweep < 2; ++sweep) {
     bool changed = false;
-    for (const std::vector<int>& move : moves) {
-      if (std::any_of(move.begin(), move.end(), [&](int i) {
-            return model.sensors().joint_sensors[guesses[i].sensor].fixed;
-          }))
-        continue;
-      SensorParameters th = *theta;
+    for (const std::vector<int>& move : moves_) {
+      if (touchesFixed(guesses_, move)) continue;
+      SensorParameters th = est->theta;
       QState st = ss;
-      for (int i : move) flipSign(guesses[i], &th, &st.q);
-      const double c = refined(th, st);
-      if (c < 0.8 * base) {
-        // Clearly better: keep it, on every frame.
-        for (int i : move) flipSign(guesses[i], theta, &state->q);
-        for (int i = 0; i < so.num_frames; ++i) ss.q.row(i) = state->q.row(sub[i]);
-        base = refined(*theta, ss);
-        changed = flipped = true;
-      }
+      for (int i : move) flipSign(guesses_[i], &th, &st.q);
+      if (!(refinedCost(th, st) < 0.8 * base)) continue;
+      // Clearly better: keep it, on every frame.
+      for (int i : move) flipSign(guesses_[i], &est->theta, &est->state.q);
+      for (int i = 0; i < sub_.num_frames; ++i) ss.q.row(i) = est->state.q.row(sub_frames_[i]);
+      base = refinedCost(est->theta, ss);
+      changed = flipped_any = true;
     }
     if (!changed) break;
   }
-  return flipped;
+  return flipped_any;
 }
 
-}  // namespace
+SensorParameters WideBasin::run(QState* state) const {
+  Estimate est;
+  est.theta = seed_;
+  est.state = std::move(*state);
+  if (!guesses_.empty()) adoptPotMaps(searchPotMaps(), &est);
+  if (marker_group_free_)
+    initialiseMarkerGroup(model_, obs_, est.state, 3, threads_, ws_, &est.theta);
+  if (!guesses_.empty() && marker_group_free_) alternate(kInitPotWeight, 1e-3, &est);
+  alternate(potWeight(), 1e-3, &est);
+  if (marker_group_free_ && !moves_.empty() && recheckSigns(&est))
+    alternate(potWeight(), 1e-4, &est);
+  ThetaPhaseOptions pots;
+  pots.threads = threads_;
+  pots.update[0] = false;
+  thetaPhase(model_, noise_, loss_, obs_, est.state, pots, ws_, &est.theta);
+  *state = std::move(est.state);
+  return est.theta;
+}
 
 SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Observations& obs,
                                          const NoiseModel& noise, const RobustLoss& loss,
-                                         int threads, std::vector<FrameWorkspace>* ws_ptr,
+                                         int threads, std::vector<FrameWorkspace>* ws,
                                          SensorParameters theta, QState* state,
                                          bool coupled_steps) {
-  const RobotModel& robot = model.robot();
-  const SensorSet& sensors = model.sensors();
-  const bool marker_group_free =
-      !sensors.markers.empty() && (!sensors.mocap_frame_fixed ||
-                      std::any_of(sensors.markers.begin(), sensors.markers.end(),
-                                  [](const MarkerConfig& m) { return !m.fixed; }));
-  std::vector<PotGuess> guesses = makePotGuesses(robot, sensors, theta, obs);
-  std::vector<std::vector<int>> moves;  // sign changes tried: guess indices
-  {
-    QPhaseOptions qo;
-    qo.method = QPhaseMethod::kLmIter;
-    qo.threads = threads;
-    qo.eval.group_weight[1] = qo.eval.group_weight[2] = 0.0;
-    ThetaPhaseOptions to;
-    to.threads = threads;
-    to.update[1] = to.update[2] = false;
-    if (!guesses.empty()) {
-      // Pick each guess's sign on a subsample of frames.
-      const Observations so = selectFrames(obs, spreadFrames(obs.num_frames, 150));
-      QState ss;
-      ss.q = neutralPose(robot).transpose().replicate(so.num_frames, 1);
-      // A candidate's score: how well the markers fit once the mocap frame
-      // and markers are re-solved in closed form and the joints no pot
-      // covers (gimbals driven by linear pots, say) follow the markers.
-      QPhaseOptions free_only = qo;
-      free_only.method = QPhaseMethod::kLmBatch;
-      free_only.max_steps = 4;
-      free_only.step_tolerance = 1e-6;  // a score, not a fit
-      free_only.frozen.assign(robot.dof(), false);
-      bool any_free = false;
-      for (const PotGuess& g : guesses) free_only.frozen[g.column] = true;
-      for (int j = 0; j < robot.dof(); ++j) any_free |= !free_only.frozen[j];
-      // The free joints start where the best candidate so far left them:
-      // one sign or scale change moves them little, so a few LM steps
-      // re-converge them.
-      RowMatrix warm_q = ss.q;
-      auto markerCost = [&](SensorParameters* th) {
-        ss.q = warm_q;
-        applyPotGuesses(guesses, so, &ss.q);
-        if (marker_group_free) {
-          initialiseMarkerGroup(model, so, ss, 2, threads, ws_ptr, th);
-          thetaPhase(model, noise, loss, so, ss, to, ws_ptr, th);
-        }
-        if (any_free) qPhase(model, *th, noise, loss, so, free_only, ws_ptr, &ss);
-        return totalCost(model, *th, noise, loss, so, qo.eval, threads, ws_ptr, &ss);
-      };
-      SensorParameters th = theta;
-      double best = markerCost(&th);
-      warm_q = ss.q;
-      auto fixedGuess = [&](const PotGuess& g) { return sensors.joint_sensors[g.sensor].fixed; };
-      // The likeliest wrong answers are mirror images of the whole motion:
-      // the world turned half a turn about a base axis a flips the sign of
-      // every joint whose axis is perpendicular to a. Try those patterns
-      // (and all signs flipped) before the greedy single-sign sweeps.
-      {
-        KinematicsWorkspace kin(robot);
-        forwardKinematics(robot, neutralPose(robot), &kin);
-        std::vector<std::vector<bool>> patterns(4, std::vector<bool>(guesses.size(), true));
-        for (size_t i = 0; i < guesses.size(); ++i) {
-          const Eigen::Vector3d u =
-              kin.joint_axis[robot.qJoints()[guesses[i].column]].normalized();
-          for (int a = 0; a < 3; ++a) patterns[1 + a][i] = std::abs(u[a]) < 0.7;
-        }
-        auto flip = [&](const std::vector<bool>& pattern) {
-          for (size_t i = 0; i < guesses.size(); ++i)
-            if (pattern[i] && !fixedGuess(guesses[i])) guesses[i].alpha = -guesses[i].alpha;
-        };
-        // The 80%-coverage scale is a guess too: a log that moves each
-        // joint through a fifth of a ±2π range (a UR arm's) needs a map 4x
-        // narrower. Each pattern is scored at a few common scales.
-        auto scale = [&](double s) {
-          for (PotGuess& g : guesses)
-            if (!fixedGuess(g)) g.alpha *= s;
-        };
-        int best_pattern = -1;
-        double best_scale = 1.0;
-        for (double s : kCoverageScales) {
-          scale(s);
-          for (int k = -1; k < static_cast<int>(patterns.size()); ++k) {
-            if (k >= 0) flip(patterns[k]);
-            th = theta;
-            const double c = markerCost(&th);
-            if (k >= 0) flip(patterns[k]);
-            if (c < best) best = c, best_pattern = k, best_scale = s, warm_q = ss.q;
-          }
-          scale(1.0 / s);
-        }
-        scale(best_scale);
-        if (best_pattern >= 0) flip(patterns[best_pattern]);
-        // The seed's own maps inverted are a candidate too: a user's rough
-        // calibration (or a previous one) must not lose to the guesses.
-        std::vector<PotGuess> seeded = guesses;
-        for (PotGuess& g : seeded) {
-          const GainBias& gb = theta.joint_sensor[g.sensor];
-          if (gb.gain == 0 || !std::isfinite(gb.gain)) continue;
-          g.alpha = 1.0 / gb.gain;
-          g.mid = (g.mean - gb.bias) / gb.gain;
-        }
-        std::swap(guesses, seeded);
-        th = theta;
-        const double c = markerCost(&th);
-        if (c < best) best = c, warm_q = ss.q; else std::swap(guesses, seeded);
-      }
-      // Greedy sign sweeps: each guess alone, then each guess together with
-      // the nearest guessed joint above it in the tree. Two wrong signs in a
-      // row (e.g. a wrist's pitch and roll) can each look right alone, since
-      // flipping either one by itself moves the markers farther.
-      {
-        std::vector<int> guess_of_q(robot.dof(), -1);
-        for (size_t i = 0; i < guesses.size(); ++i) guess_of_q[guesses[i].column] = static_cast<int>(i);
-        for (size_t i = 0; i < guesses.size(); ++i) moves.push_back({static_cast<int>(i)});
-        for (size_t i = 0; i < guesses.size(); ++i) {
-          const int movable = robot.qJoints()[guesses[i].column];
-          const std::vector<int>& chain =
-              robot.supportingJoints(robot.movableJoints()[movable].child_link);
-          for (int k = static_cast<int>(chain.size()) - 2; k >= 0; --k) {
-            const MovableJoint& above = robot.movableJoints()[chain[k]];
-            if (above.is_mimic || guess_of_q[above.q_index] < 0) continue;
-            moves.push_back({guess_of_q[above.q_index], static_cast<int>(i)});
-            break;
-          }
-        }
-      }
-      auto flipMove = [&](const std::vector<int>& move) {
-        for (int i : move) guesses[i].alpha = -guesses[i].alpha;
-      };
-      // Each guess's own scale: halved or doubled while the markers fit
-      // clearly better (joints of one log rarely cover their ranges alike).
-      auto rescaleSweep = [&]() {
-        bool changed = false;
-        for (PotGuess& g : guesses) {
-          if (fixedGuess(g)) continue;
-          for (double s : {0.5, 2.0}) {
-            for (int step = 0; step < 3; ++step) {
-              g.alpha *= s;
-              SensorParameters trial = theta;
-              const double c = markerCost(&trial);
-              if (c < 0.98 * best) {
-                best = c;
-                warm_q = ss.q;
-                changed = true;
-              } else {
-                g.alpha /= s;
-                break;
-              }
-            }
-          }
-        }
-        return changed;
-      };
-      // Until no sign change helps (at most 3 sweeps).
-      auto signSweeps = [&]() {
-        for (int sweep = 0; sweep < 3; ++sweep) {
-          bool changed = false;
-          for (const std::vector<int>& move : moves) {
-            if (std::any_of(move.begin(), move.end(),
-                            [&](int i) { return fixedGuess(guesses[i]); }))
-              continue;
-            flipMove(move);
-            SensorParameters trial = theta;
-            const double c = markerCost(&trial);
-            // Two signs at once only for a clear gain: with outliers in the
-            // data a double mirror can score marginally better by chance.
-            if (c < (move.size() > 1 ? 0.95 : 1.0) * best) {
-              best = c;
-              warm_q = ss.q;
-              changed = true;
-            } else {
-              flipMove(move);
-            }
-          }
-          if (!changed) break;
-        }
-      };
-      // Signs first (with wrong signs a narrower map always fits better),
-      // then each guess's own scale, then signs again if a scale changed.
-      signSweeps();
-      if (rescaleSweep()) signSweeps();
-      applyPotGuesses(guesses, obs, &state->q);
-      for (const PotGuess& g : guesses) {
-        if (sensors.joint_sensors[g.sensor].fixed) continue;
-        GainBias& gb = theta.joint_sensor[g.sensor];
-        gb.gain = 1.0 / g.alpha;
-        gb.bias = g.mean - g.mid / g.alpha;
-      }
-      qo.eval.group_weight[1] = 1.0;  // pots now carry their guessed map
-      to.update[1] = true;
-    }
-    if (marker_group_free)
-      initialiseMarkerGroup(model, obs, *state, 3, threads, ws_ptr, &theta);
-    double init_lambda = 1e-3;
-    auto alternate = [&](double tol) {
-    double prev = -1;
-    for (int it = 0; it < 30; ++it) {
-      double c = 0;
-      if (it < 2 && guesses.empty()) {
-        // No pot to guess from: track through time from the neutral pose
-        // (twice: the second time with the mocap frame and markers the
-        // first pass allowed).
-        QPhaseOptions tr = qo;
-        tr.method = QPhaseMethod::kLmBatch;
-        tr.max_steps = 20;
-        c = trackingPass(model, theta, noise, loss, obs, tr, neutralPose(robot), 32, ws_ptr, state);
-      } else {
-        c = qPhase(model, theta, noise, loss, obs, qo, ws_ptr, state);
-      }
-      if (marker_group_free || !guesses.empty())
-        thetaPhase(model, noise, loss, obs, *state, to, ws_ptr, &theta);
-      // Coupled steps once the alternation stalls (they cost more).
-      if (coupled_steps && prev > 0 && prev - c < 1e-2 * prev)
-        c = coupledStep(model, noise, loss, obs, threads, ws_ptr, &init_lambda, &theta, state,
-                        qo.eval, true);
-      if (prev > 0 && std::abs(prev - c) <= tol * prev) break;
-      prev = c;
-    }
-    };
-    if (!guesses.empty() && marker_group_free) {
-      qo.eval.group_weight[1] = kInitPotWeight;
-      alternate(1e-3);
-      qo.eval.group_weight[1] = 1.0;
-    }
-    alternate(1e-3);
-    if (marker_group_free && !moves.empty() &&
-        verifySigns(model, obs, noise, loss, threads, ws_ptr, guesses, moves, &theta, state))
-      alternate(1e-4);
-    ThetaPhaseOptions pots;
-    pots.threads = threads;
-    pots.update[0] = false;
-    thetaPhase(model, noise, loss, obs, *state, pots, ws_ptr, &theta);
-  }
-  return theta;
+  return WideBasin(model, obs, noise, loss, threads, ws, theta, coupled_steps).run(state);
 }
 
 }  // namespace stac
