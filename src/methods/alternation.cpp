@@ -14,7 +14,7 @@
 #include "solve/parallel.hpp"
 #include "solve/schur.hpp"
 #include "solve/theta_phase.hpp"
-#include "wide_basin.hpp"
+#include "methods/wide_basin.hpp"
 
 namespace stac {
 namespace {

@@ -1,0 +1,204 @@
+// Wide-basin initialisation of θ and q from the paper's seeding (internal).
+//
+// The steps, each usable (and tested) on its own:
+//  - pot guesses: each one-joint sensor's readings mapped onto its joint's
+//    range (makePotGuesses); a Candidate holds one such map per guess, as
+//    values, and the candidate transforms below build new ones from old;
+//  - WideBasin scores a candidate by how well the markers then fit on a
+//    subsample (score, a const function of the candidate and where its
+//    search stands) and searches the candidates by sweeps (mirror patterns
+//    at a few coverage scales, the seed's own maps, sign moves, rescales);
+//  - then a marker-led alternation on every frame (alternate), a coupled
+//    re-check of the signs (recheckSigns) and a last fit of the pots.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "stac/log.hpp"
+#include "stac/measurement.hpp"
+#include "solve/q_phase.hpp"
+
+namespace stac {
+
+// Frames used for initialising: at most this many, spread over the log.
+constexpr int kInitFrames = 1000;
+
+// Returns θ initialised from `theta` (the seed) on obs; state->q (one row per
+// frame of obs, neutral on entry) receives the initial joint angles.
+SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Observations& obs,
+                                         const NoiseModel& noise, const RobustLoss& loss,
+                                         int threads, std::vector<FrameWorkspace>* ws,
+                                         SensorParameters theta, QState* state,
+                                         bool coupled_steps);
+
+// A map from a pot's reading to its joint's angle: q = alpha (p - mean) + mid.
+struct PotMap {
+  double alpha = 0, mid = 0;
+};
+
+// One one-joint sensor whose joint the initialisation guesses from it.
+struct PotGuess {
+  int sensor = -1;     // joint sensor index
+  int column = -1;     // q index
+  double mean = 0;     // mean reading
+  bool fixed = false;  // known calibration: the exact inverse, never changed
+  PotMap map;          // the guess (below)
+};
+
+// The joint angle a one-joint sensor implies if the log spans 80% of the
+// joint's range: q = alpha (p - mean p) + mid. Such a guess has the right
+// time course; alpha's sign and scale are unknown, and greedy sweeps pick
+// each by how well the markers then fit. One guess per joint (the first of
+// its sensors), none for mimic joints or sensors with fewer than two
+// readings.
+std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& sensors,
+                                     const SensorParameters& theta, const Observations& obs);
+
+// A candidate initialisation of the pots: maps[i] for guesses[i].
+struct Candidate {
+  std::vector<PotMap> maps;
+};
+
+// The guesses' own maps.
+Candidate guessedMaps(const std::vector<PotGuess>& guesses);
+// Writes each guessed joint's column of q (frames of obs) from its map; a
+// frame without a reading keeps the previous frame's angle (mid before the
+// first reading).
+void applyCandidate(const std::vector<PotGuess>& guesses, const Candidate& candidate,
+                    const Observations& obs, RowMatrix* q);
+
+// Candidate transforms: each returns a new candidate.
+// The signs of alpha flipped where flip[i], but for fixed guesses.
+Candidate withSigns(const Candidate& c, const std::vector<PotGuess>& guesses,
+                    const std::vector<bool>& flip);
+// Every alpha but the fixed guesses' times s.
+Candidate scaled(const Candidate& c, const std::vector<PotGuess>& guesses, double s);
+// The seed's maps inverted where it has a finite non-zero gain (for a fixed
+// guess, the map it has already).
+Candidate seededMaps(const Candidate& c, const std::vector<PotGuess>& guesses,
+                     const SensorParameters& seed);
+// A sign move: the signs of the listed guesses flipped together. The
+// sweeps skip a move that touchesFixed.
+Candidate flipped(const Candidate& c, const std::vector<int>& move);
+bool touchesFixed(const std::vector<PotGuess>& guesses, const std::vector<int>& move);
+// Guess i's alpha times s (the sweeps skip fixed guesses).
+Candidate rescaled(const Candidate& c, int i, double s);
+
+// The likeliest wrong answers are mirror images of the whole motion: the
+// world turned half a turn about a base axis a flips the sign of every joint
+// whose axis (at the neutral pose) is perpendicular to a. Returns the four
+// patterns to flip: all signs, then those of the base's x, y and z axes.
+std::vector<std::vector<bool>> mirrorPatterns(const RobotModel& robot,
+                                              const std::vector<PotGuess>& guesses);
+// The sign moves of the greedy sweeps: each guess alone, then each guess
+// together with the nearest guessed joint above it in the tree.
+std::vector<std::vector<int>> signMoves(const RobotModel& robot,
+                                        const std::vector<PotGuess>& guesses);
+
+// Mirrors joint angle column `g.column` about its mean and flips the sign
+// of its pot's map so that the pot's predictions stay the same.
+void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q);
+// Whether some marker or pot fits clearly worse than its noise: its median
+// residual over the frames of obs more than twice what Gaussian noise of
+// its σ gives.
+bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
+                       const NoiseModel& noise, const Observations& obs, const RowMatrix& q);
+
+// A candidate's score and the subsample state it left.
+struct ScoredCandidate {
+  double cost = 0;
+  QState state;
+};
+
+// Where a candidate search stands: the best candidate so far, its score,
+// the subsample's q it left (the free joints of the next score start there:
+// one sign or scale change moves them little, so a few LM steps re-converge
+// them) and the per-frame LM damping of the last score, kept or not.
+struct SearchState {
+  Candidate best;
+  double cost = 0;
+  RowMatrix warm_q;
+  Eigen::VectorXd damping;
+};
+
+// The estimate the alternation refines: θ, q of every frame, and the
+// coupled steps' damping, carried from one alternation to the next.
+struct Estimate {
+  SensorParameters theta;
+  QState state;
+  double coupled_lambda = 1e-3;
+};
+
+// The initialisation of one log (obs: the frames used for initialising).
+// Holds references to its arguments, which must outlive it; the workspaces
+// (one per thread) are scratch, written by every step.
+class WideBasin {
+ public:
+  WideBasin(const MeasurementModel& model, const Observations& obs, const NoiseModel& noise,
+            const RobustLoss& loss, int threads, std::vector<FrameWorkspace>* ws,
+            const SensorParameters& seed, bool coupled_steps);
+
+  // The whole initialisation: θ from the seed; state->q as for
+  // wideBasinInitialisation.
+  SensorParameters run(QState* state) const;
+
+  const std::vector<PotGuess>& guesses() const { return guesses_; }
+  const std::vector<std::vector<int>>& moves() const { return moves_; }
+  const Observations& subsample() const { return sub_; }
+  bool markerGroupFree() const { return marker_group_free_; }
+
+  // ---- Candidate search on the subsample (markers only) ----
+  // How well the markers fit with candidate c, once the mocap frame and
+  // markers are re-solved in closed form from the seed and the joints no
+  // pot covers follow the markers from `from`'s q and damping.
+  ScoredCandidate score(const Candidate& c, const SearchState& from) const;
+  // A search whose best is c, scored from the neutral pose.
+  SearchState startSearch(const Candidate& c) const;
+  // Scores c; it becomes the best if its cost < factor * the best's.
+  bool offer(const Candidate& c, double factor, SearchState* s) const;
+  // Mirror patterns of the guessed maps at every coverage scale.
+  void mirrorSweep(SearchState* s) const;
+  // The seed's own maps.
+  void seedCheck(SearchState* s) const;
+  // Sign moves until none helps (at most 3 sweeps).
+  bool signSweeps(SearchState* s) const;
+  // Each guess's scale halved or doubled while the fit improves clearly.
+  bool rescaleSweep(SearchState* s) const;
+  // All of the above in order: the pots' initial maps.
+  Candidate searchPotMaps() const;
+
+  // ---- Alternation on every frame ----
+  // θ's pot maps from the candidate; q's guessed columns from the readings.
+  void adoptPotMaps(const Candidate& c, Estimate* est) const;
+  // Marker-led alternation until the relative change of the cost is at most
+  // tol (at most 30 iterations); pot_weight multiplies the pots' whitened
+  // residuals (0: off), tendons are off.
+  void alternate(double pot_weight, double tol, Estimate* est) const;
+  // The coupled re-check of the signs (see the .cpp); whether one changed.
+  bool recheckSigns(Estimate* est) const;
+
+ private:
+  // The cost after a few alternations and coupled steps on the subsample.
+  double refinedCost(SensorParameters theta, QState state) const;
+  // The pots' group weight once they carry their guessed maps.
+  double potWeight() const { return guesses_.empty() ? 0.0 : 1.0; }
+
+  const MeasurementModel& model_;
+  const Observations& obs_;
+  const NoiseModel& noise_;
+  const RobustLoss& loss_;
+  const int threads_;
+  std::vector<FrameWorkspace>* ws_;
+  const SensorParameters seed_;
+  const bool coupled_steps_;
+  const bool marker_group_free_;
+  const std::vector<PotGuess> guesses_;
+  const std::vector<std::vector<int>> moves_;  // sign changes tried: guess indices
+  const std::vector<int> sub_frames_;          // frames of obs_ in sub_
+  const Observations sub_;                     // the search's subsample
+  QPhaseOptions free_only_;                    // the score's q-phase of the free joints
+  bool any_free_ = false;                      // some joint no pot covers
+};
+
+}  // namespace stac
