@@ -23,8 +23,6 @@
 namespace {
 
 using namespace stac;
-using cli::ParameterChange;
-using cli::largestChanges;
 using cli::checkOutputs;
 using cli::writeOutput;
 
@@ -74,63 +72,6 @@ const char* kGroupUnit[kNumSensorGroups] = {"m", "raw", "raw"};
 // A group's fitted σ this many times its seed σ is worth a warning.
 constexpr double kSuspectSigmaRatio = 3.0;
 
-void printSummary(const RobotModel& robot, const SensorSet& sensors, const SensorParameters& seed,
-                  const CalibrationResult& r,
-                  const std::string& output) {
-  const CalibrationSummary& s = r.summary;
-  std::ostringstream o;
-  char buf[256];
-  o << "Calibration of " << (robot.name().empty() ? "robot" : robot.name()) << ": "
-    << s.frames << " frames, " << robot.dof() << " joints, " << sensors.markers.size()
-    << " markers, " << sensors.joint_sensors.size() << " joint sensors, "
-    << sensors.tendon_sensors.size() << " tendon sensors\n";
-  const std::string steps = s.method == "ekf" ? "one forward pass over the frames"
-                            : std::to_string(s.iterations) +
-                                  (s.iterations == 1 ? " iteration" : " iterations");
-  std::snprintf(buf, sizeof buf, "method %s%s%s, %s, %s, %.2f s\n", s.method.c_str(),
-                s.q_phase.empty() ? "" : " / q-phase ", s.q_phase.c_str(), steps.c_str(),
-                s.converged ? "converged" : "NOT converged (iteration limit)", s.wall_time);
-  o << buf;
-  o << "\nresidual RMS per group      before        after        sigma\n";
-  for (int g = 0; g < kNumSensorGroups; ++g) {
-    if (!s.group_present[g]) continue;
-    std::snprintf(buf, sizeof buf, "  %-8s (%-3s)       %12.6g %12.6g %12.6g\n",
-                  groupName(static_cast<SensorGroup>(g)), kGroupUnit[g], s.before_rms[g],
-                  s.after_rms[g], s.group_sigma[g]);
-    o << buf;
-  }
-  // Parameters that moved most, in their own typical units.
-  const std::vector<ParameterChange> moved = largestChanges(ThetaSpace(sensors), seed, r.theta, 8);
-  if (!moved.empty()) {
-    o << "\nparameters that moved most           seed          final\n";
-    for (const ParameterChange& c : moved) {
-      std::snprintf(buf, sizeof buf, "  %-32s %12.6g %14.6g\n", c.name.c_str(), c.before, c.after);
-      o << buf;
-    }
-  }
-  o << "\nunidentifiable: ";
-  if (s.unidentifiable.empty()) {
-    o << "none\n";
-  } else {
-    o << s.unidentifiable.size() << " direction(s) the data cannot determine (fix one of the "
-      << "parameters with `fixed: true`, or add markers):\n";
-    for (const UnidentifiableDirection& d : s.unidentifiable) {
-      o << "  - " << d.reason << "\n    parameters:";
-      for (const std::string& p : d.parameters) o << " " << p;
-      o << "\n";
-    }
-  }
-  if (!s.downweighted.empty()) {
-    o << "\nreadings the robust loss down-weighted most (frame, sensor, weight):\n";
-    for (const DownweightedReading& d : s.downweighted) {
-      std::snprintf(buf, sizeof buf, "  %8d  %-24s %.3g\n", d.frame, d.sensor.c_str(), d.weight);
-      o << buf;
-    }
-  }
-  o << "\ncalibration written to " << output << "\n";
-  std::cout << o.str();
-}
-
 // What a user must not miss even with --quiet: a solve that ran out of
 // iterations, or a sensor group whose fitted noise is far above its seed σ
 // (a wrong minimum, a σ given in the wrong unit, or readings the model does
@@ -164,7 +105,7 @@ int run(const cli::Args& args) {
   CalibrationOptions options;
   const std::string method =
       args.getChoice("method", {"stac", "joint", "ekf", "classical"}, "stac");
-  options.method = method == "joint"       ? Method::kJoint
+  options.method = method == "joint"       ? Method::kMonolithic
                    : method == "ekf"       ? Method::kEkf
                    : method == "classical" ? Method::kClassical
                                            : Method::kStac;
@@ -280,7 +221,8 @@ int run(const cli::Args& args) {
   if (!q_path.empty()) cli::writeLogOutput(q_path, q_log);
   if (!urdf_out.empty()) writeOutput(urdf_out, urdf_patch.urdf);
   if (!report_path.empty()) writeOutput(report_path, report);
-  printSummary(robot, sf.sensors, sf.theta, result, output);
+  std::cout << briefReport(robot, sf.theta, result) << "\ncalibration written to " << output
+            << "\n";
   warnIfSuspect(result.summary);
   if (!urdf_out.empty()) {
     std::cout << "calibrated URDF written to " << urdf_out << ": " << urdf_patch.placed.size()

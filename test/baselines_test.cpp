@@ -145,7 +145,7 @@ TEST(FrameJacobian, DenseAssemblyMatchesCentralDifferences) {
     const FrameReadings fr = frameReadings(p.obs, 2);
     const Eigen::VectorXd q = p.q_true.row(2).transpose() + Eigen::VectorXd::Constant(4, 0.03);
     const SensorParameters theta = nearSeed(p.sensors, p.truth, 1);
-    EvalOptions eo;
+    FrameOptions eo;
     eo.theta_jacobians = true;
     evaluateFrame(model, theta, noise, loss, fr, q, eo, &ws);
     DenseFrame df;

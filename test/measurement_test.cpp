@@ -88,7 +88,7 @@ Eigen::VectorXd residuals(const MeasurementModel& model, const SensorParameters&
                           const RobustLoss& loss, const Observations& obs,
                           const Eigen::VectorXd& q) {
   FrameWorkspace ws(model);
-  EvalOptions eo;
+  FrameOptions eo;
   eo.jacobians = false;
   evaluateFrame(model, theta, NoiseModel::fromSeeds(model.sensors()), loss,
                 frameReadings(obs, 0), q, eo, &ws);
@@ -107,7 +107,7 @@ void checkJacobians(const RobustLoss& loss, double obs_scale) {
   for (int trial = 0; trial < 5; ++trial) {
     const Eigen::VectorXd q = test::randomQ(s.robot, rng);
     FrameWorkspace ws(model);
-    EvalOptions eo;
+    FrameOptions eo;
     eo.theta_jacobians = true;
     evaluateFrame(model, s.theta, noise, loss, frameReadings(s.obs, 0), q, eo, &ws);
     // Assemble dense analytic Jacobians.
@@ -157,7 +157,7 @@ TEST(Measurement, RobustCostIsHalfTheSumOfRho) {
   const MeasurementModel model(s.robot, s.sensors);
   const RobustLoss huber(LossKind::kHuber, 2.0);
   FrameWorkspace ws(model);
-  EvalOptions eo;
+  FrameOptions eo;
   const Eigen::VectorXd q = Eigen::VectorXd::Zero(model.dof());
   const double cost = evaluateFrame(model, s.theta, NoiseModel::fromSeeds(s.sensors), huber,
                                     frameReadings(s.obs, 0), q, eo, &ws);
@@ -180,7 +180,7 @@ void checkGroupLeverage(const RobustLoss& loss, bool drop_marker) {
   if (drop_marker) s.obs.marker.row(0).head(3).setConstant(std::nan(""));
   const MeasurementModel model(s.robot, s.sensors);
   FrameWorkspace ws(model);
-  EvalOptions eo;
+  FrameOptions eo;
   const int n = model.dof();
   const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(n, 0.1, 0.4);
   evaluateFrame(model, s.theta, NoiseModel::fromSeeds(s.sensors), loss, frameReadings(s.obs, 0),

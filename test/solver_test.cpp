@@ -150,7 +150,7 @@ TEST_P(ShortAndLongLogs, MonolithicAndAlternationReachTheSameCost) {
   o.adapt_variance = false;  // same fixed σ: the two costs are comparable
   o.tolerance = 1e-12;
   CalibrationResult stac = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
-  o.method = Method::kJoint;
+  o.method = Method::kMonolithic;
   o.max_iterations = 500;
   CalibrationResult joint = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
   EXPECT_TRUE(stac.summary.converged);

@@ -230,7 +230,7 @@ TEST(WideBasinSearch, ScorePrefersTheTrueSigns) {
   QState q_of_pots;
   q_of_pots.q = neutralPose(s.p.robot).transpose().replicate(wb.subsample().num_frames, 1);
   applyCandidate(guesses, truth, wb.subsample(), &q_of_pots.q);
-  EvalOptions markers;
+  FrameOptions markers;
   markers.group_weight[1] = markers.group_weight[2] = 0.0;
   const double truth_cost = totalCost(s.model, s.p.truth, s.noise, s.loss, wb.subsample(), markers,
                                       kThreads, &s.ws, &q_of_pots);

@@ -53,32 +53,6 @@ void writeOutput(const std::string& path, const std::string& content) {
   }
 }
 
-std::vector<ParameterChange> largestChanges(const ThetaSpace& space,
-                                            const SensorParameters& before,
-                                            const SensorParameters& after, int n) {
-  const Eigen::VectorXd scale = space.scale(after);
-  const Eigen::VectorXd change = space.minus(after, before);
-  std::vector<ParameterChange> all;
-  bool rotation_listed = false;
-  for (int i : space.freeIndex()) {
-    const ThetaEntry e = space.entry(i);
-    if (e.block == ThetaBlock::kMocapRotation) {
-      // One entry for the turn: its components depend on the axes chosen.
-      if (rotation_listed) continue;
-      rotation_listed = true;
-      const double angle = change.segment<3>(ThetaSpace::kRotationOffset).norm();
-      all.push_back({"mocap.frame.rotation (angle)", 0.0, angle, angle});
-      continue;
-    }
-    all.push_back({space.names()[i], space.value(before, i), space.value(after, i),
-                   std::abs(change[i]) / scale[i]});
-  }
-  std::stable_sort(all.begin(), all.end(),
-                   [](const ParameterChange& a, const ParameterChange& b) { return a.score > b.score; });
-  if (static_cast<int>(all.size()) > n) all.resize(n);
-  return all;
-}
-
 void writeLogOutput(const std::string& path, const Log& log) {
   try {
     writeLog(path, log);

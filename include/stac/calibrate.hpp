@@ -24,7 +24,7 @@ namespace stac {
 
 enum class Method {
   kStac,       // alternation of q-phase and θ-phase (default)
-  kJoint,      // one monolithic problem over every q_t and θ (Ceres)
+  kMonolithic, // one monolithic problem over every q_t and θ (Ceres)
   kEkf,        // extended Kalman filter over [θ; q], one forward pass
   kClassical,  // regression with every joint angle read off its sensor
 };
@@ -41,7 +41,7 @@ struct IterationReport {
   std::string stage;  // "init", "seed", "stac", "joint", "ekf" (per ~10% of frames), "classical"
 };
 
-// Method::kStac and kJoint: how the run starts and (kStac) alternates.
+// Method::kStac and kMonolithic: how the run starts and (kStac) alternates.
 struct StacOptions {
   QPhaseMethod q_phase = QPhaseMethod::kLmIter;
   bool wide_basin_init = true;  // marker-led initialisation from a poor seed
@@ -85,7 +85,7 @@ struct EkfOptions {
 struct CalibrationOptions {
   Method method = Method::kStac;
   // Every method.
-  int max_iterations = 200;    // outer iterations (kJoint, kClassical: per solve)
+  int max_iterations = 200;    // outer iterations (kMonolithic, kClassical: per solve)
   double tolerance = 1e-7;     // stop when the relative cost decrease is below
   int threads = 0;             // 0: all cores
   LossKind loss = LossKind::kNone;
@@ -94,7 +94,7 @@ struct CalibrationOptions {
   int max_downweighted = 20;   // readings listed in the summary
   std::function<void(const IterationReport&)> progress;
   // One method's own.
-  StacOptions stac;            // kStac, kJoint
+  StacOptions stac;            // kStac, kMonolithic
   EkfOptions ekf;              // kEkf
 
   bool isValid(std::string* error) const;
@@ -112,6 +112,12 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
                             const CalibrationOptions& options,
                             RowMatrix* joint_angles = nullptr,
                             const RowMatrix* q0 = nullptr);
+
+// A human summary of r (what stac_calib prints): the run, residual RMS per
+// group before and after, the parameters that moved most from `seed`, the
+// unidentifiable directions and the down-weighted readings.
+std::string briefReport(const RobotModel& robot, const SensorParameters& seed,
+                        const CalibrationResult& r);
 
 // The neutral pose: 0 clamped into each joint's limits (where q starts).
 Eigen::VectorXd neutralPose(const RobotModel& robot);

@@ -123,7 +123,7 @@ struct FrameWorkspace {
 // Evaluates frame t at q. Returns the frame's cost ½ Σ ρ(s). With
 // jacobians=false only r, s, rho, weight are filled. Group weights multiply
 // each group's whitened residuals (0 switches a group off).
-struct EvalOptions {
+struct FrameOptions {
   bool jacobians = true;
   bool theta_jacobians = false;
   double group_weight[kNumSensorGroups] = {1.0, 1.0, 1.0};
@@ -131,7 +131,7 @@ struct EvalOptions {
 double evaluateFrame(const MeasurementModel& model, const SensorParameters& theta,
                      const NoiseModel& noise, const RobustLoss& loss,
                      const FrameReadings& readings, const Eigen::VectorXd& q,
-                     const EvalOptions& options, FrameWorkspace* ws);
+                     const FrameOptions& options, FrameWorkspace* ws);
 
 }  // namespace stac
 

@@ -144,6 +144,52 @@ RowMatrix simulateMotion(const RobotModel& robot, int frames, double rate_hz,
   return q;
 }
 
+namespace {
+
+// The log's columns (joint sensors, tendon sensors, markers' x/y/z) for
+// `frames` rows.
+Log emptyLog(const SensorSet& sensors, int frames) {
+  Log log;
+  for (const JointSensorConfig& s : sensors.joint_sensors) log.columns.push_back(s.name);
+  for (const TendonSensorConfig& s : sensors.tendon_sensors) log.columns.push_back(s.name);
+  for (const MarkerConfig& m : sensors.markers)
+    for (const char* axis : {".x", ".y", ".z"}) log.columns.push_back(m.name + axis);
+  log.time_name = "time";
+  log.time.resize(frames);
+  log.values.resize(frames, sensors.joint_sensors.size() + sensors.tendon_sensors.size() +
+                                3 * sensors.markers.size());
+  log.line_of_frame.resize(frames);
+  return log;
+}
+
+// A marker's reading into cell[0..2] from its prediction: noise, then maybe
+// dropped or a gross error (returns true for the latter). Fifteen draws
+// whatever happens, so one reading's fate never shifts another's noise.
+bool noisyMarker(const MarkerConfig& c, const double* predicted, double k, double gross_scale,
+                 const SimulationOptions& options, Draw& draw, double* cell) {
+  Eigen::Vector3d x;
+  for (int i = 0; i < 3; ++i) x[i] = predicted[i] + k * c.sigma * draw.normal();
+  const double u_drop = draw.uniform(), u_out = draw.uniform(), u_mag = draw.uniform();
+  Eigen::Vector3d dir;
+  for (int i = 0; i < 3; ++i) dir[i] = draw.normal();
+  if (u_drop < options.dropout) {
+    cell[0] = cell[1] = cell[2] = std::numeric_limits<double>::quiet_NaN();
+    return false;
+  }
+  const bool outlier = u_out < options.outliers;
+  if (outlier) {
+    const double len = dir.norm();
+    dir = len > 1e-12 ? Eigen::Vector3d(dir / len) : Eigen::Vector3d::UnitX();
+    const double mag = std::max(kMarkerGrossLow + kMarkerGrossSpan * u_mag,
+                                (kGrossLow + kGrossSpan * u_mag) * c.sigma * gross_scale);
+    x += mag * dir;
+  }
+  for (int i = 0; i < 3; ++i) cell[i] = x[i];
+  return outlier;
+}
+
+}  // namespace
+
 SimulatedLog simulateLog(const MeasurementModel& model,
                          const SensorParameters& truth, const RowMatrix& q,
                          const SimulationOptions& options,
@@ -167,18 +213,10 @@ SimulatedLog simulateLog(const MeasurementModel& model,
 
   SimulatedLog out;
   Log& log = out.log;
-  for (const JointSensorConfig& s : sensors.joint_sensors) log.columns.push_back(s.name);
-  for (const TendonSensorConfig& s : sensors.tendon_sensors) log.columns.push_back(s.name);
-  for (const MarkerConfig& m : sensors.markers)
-    for (const char* axis : {".x", ".y", ".z"}) log.columns.push_back(m.name + axis);
-  log.time_name = "time";
-  log.time.resize(frames);
-  log.values.resize(frames, J + N + 3 * M);
-  log.line_of_frame.resize(frames);
+  log = emptyLog(sensors, frames);
 
   const double k = options.noise_scale;
   const double gross_scale = std::max(1.0, k);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   KinematicsWorkspace ws(model.robot());
   Eigen::VectorXd pm(3 * M), pj(J), pt(N), qt(model.dof());
   Draw draw(rng);
@@ -212,27 +250,9 @@ SimulatedLog simulateLog(const MeasurementModel& model,
       row[J + n] = scalar(pt[n], s.sigma, t, SensorGroup::kTendon, n, s.name);
     }
     for (int m = 0; m < M; ++m) {
-      // Fifteen draws per marker, whatever happens to it.
-      const MarkerConfig& c = sensors.markers[m];
-      Eigen::Vector3d x;
-      for (int i = 0; i < 3; ++i) x[i] = pm[3 * m + i] + k * c.sigma * draw.normal();
-      const double u_drop = draw.uniform(), u_out = draw.uniform(), u_mag = draw.uniform();
-      Eigen::Vector3d dir;
-      for (int i = 0; i < 3; ++i) dir[i] = draw.normal();
       double* cell = row + J + N + 3 * m;
-      if (u_drop < options.dropout) {
-        cell[0] = cell[1] = cell[2] = nan;
-        continue;
-      }
-      if (u_out < options.outliers) {
-        const double len = dir.norm();
-        dir = len > 1e-12 ? Eigen::Vector3d(dir / len) : Eigen::Vector3d::UnitX();
-        const double mag = std::max(kMarkerGrossLow + kMarkerGrossSpan * u_mag,
-                                    (kGrossLow + kGrossSpan * u_mag) * c.sigma * gross_scale);
-        x += mag * dir;
-        out.outliers.push_back({t, SensorGroup::kMarker, m, c.name});
-      }
-      for (int i = 0; i < 3; ++i) cell[i] = x[i];
+      if (noisyMarker(sensors.markers[m], pm.data() + 3 * m, k, gross_scale, options, draw, cell))
+        out.outliers.push_back({t, SensorGroup::kMarker, m, sensors.markers[m].name});
     }
   }
   return out;

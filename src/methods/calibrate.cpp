@@ -60,7 +60,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   const MethodInput in{problem, seed, options, start, q0};
   switch (options.method) {
     case Method::kStac: return makeResult(in, runStac(in), joint_angles);
-    case Method::kJoint: return makeResult(in, runMonolithic(in), joint_angles);
+    case Method::kMonolithic: return makeResult(in, runMonolithic(in), joint_angles);
     case Method::kEkf: return makeResult(in, runEkf(in), joint_angles);
     case Method::kClassical: return makeResult(in, runClassical(in), joint_angles);
   }

@@ -73,7 +73,7 @@ bool classicalFrame(const MeasurementModel& model, const JointSources& sources,
   Eigen::VectorXd q;
   if (!anglesFromSensors(robot, sensors, sources, params.inverse, readings.joint, &q))
     return false;
-  EvalOptions eo;
+  FrameOptions eo;
   eo.jacobians = J != nullptr;
   eo.theta_jacobians = J != nullptr;
   evaluateFrame(model, params.theta, noise, loss, readings, q, eo, ws);

@@ -139,7 +139,7 @@ bool updateFrame(const Problem& problem, const EkfOptions& eo, int t, const Eige
   const ThetaSpace& space = model.thetaSpace();
   const std::vector<int>& free_index = space.freeIndex();
   const int nf = space.freeSize(), dof = model.dof(), n = nf + dof;
-  EvalOptions ev;
+  FrameOptions ev;
   ev.jacobians = true;
   ev.theta_jacobians = true;
   const SensorParameters theta_prior = f->theta;
@@ -184,7 +184,7 @@ bool forwardPass(const MethodInput& in, const Eigen::VectorXd& process_var, Filt
   const int T = problem.obs.num_frames, dof = problem.model.dof();
   Eigen::VectorXd lower, upper;
   widenedLimits(problem.model.robot(), &lower, &upper);
-  EvalOptions ev;
+  FrameOptions ev;
   ev.jacobians = true;
   ev.theta_jacobians = true;
   FrameWorkspace& w = (*ws)[0];

@@ -45,7 +45,7 @@ struct MethodInput {
   const RowMatrix* q0 = nullptr;
 };
 
-Outcome runStac(const MethodInput& in);         // stac.cpp (also Method::kJoint's start)
+Outcome runStac(const MethodInput& in);         // stac.cpp (also Method::kMonolithic's start)
 Outcome runMonolithic(const MethodInput& in);   // monolithic.cpp
 Outcome runEkf(const MethodInput& in);          // ekf.cpp
 Outcome runClassical(const MethodInput& in);    // classical.cpp

@@ -1,4 +1,4 @@
-// Method::kJoint: the alternation's start, then the monolithic problem with
+// Method::kMonolithic: the alternation's start, then the monolithic problem with
 // variance adaptation around it: solve, re-estimate σ, solve again until σ
 // settles.
 #include <algorithm>
@@ -19,7 +19,7 @@ Outcome runMonolithic(const MethodInput& in) {
   PassStats st = start.st;
   for (int round = 0; round < (options.adapt_variance ? 5 : 1); ++round) {
     int its = 0;
-    solveJointProblem(problem.model, s.noise, problem.loss, problem.obs, options, &s.theta, &s.q,
+    solveMonolithic(problem.model, s.noise, problem.loss, problem.obs, options, &s.theta, &s.q,
                       &its, &converged);
     iterations += its;
     st = costPass(problem, s.theta, s.noise, s.q.q, options.adapt_variance, &ws);

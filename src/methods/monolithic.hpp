@@ -1,5 +1,5 @@
 // Monolithic mode (--method joint): one Ceres problem over every q_t and θ
-// (joint_solver.cpp).
+// (monolithic_problem.cpp).
 #pragma once
 
 #include "stac/calibrate.hpp"
@@ -10,7 +10,7 @@ namespace stac {
 
 // Solves for θ and every state->q at the given σ, from their values;
 // options: max_iterations, tolerance, threads.
-void solveJointProblem(const MeasurementModel& model, const NoiseModel& noise,
+void solveMonolithic(const MeasurementModel& model, const NoiseModel& noise,
                        const RobustLoss& loss, const Observations& obs,
                        const CalibrationOptions& options, SensorParameters* theta,
                        QState* state, int* iterations, bool* converged);

@@ -1,7 +1,7 @@
-// The Ceres pieces of the monolithic mode (--method joint, joint_solver.cpp):
+// The Ceres pieces of the monolithic mode (--method joint, monolithic_problem.cpp):
 // an EvaluationCallback that runs forward kinematics once per frame and
 // evaluation point, and one cost function per reading type. Internal: the
-// problem is assembled in joint_solver.cpp; test/monolithic_costs_test.cpp
+// problem is assembled in monolithic_problem.cpp; test/monolithic_costs_test.cpp
 // checks every Jacobian here against finite differences.
 //
 // Parameter blocks (one per physical quantity): q_t (robot.dof()), the mocap

@@ -12,7 +12,7 @@ namespace {
 const char* methodName(Method m) {
   switch (m) {
     case Method::kStac: return "stac";
-    case Method::kJoint: return "joint";
+    case Method::kMonolithic: return "joint";
     case Method::kEkf: return "ekf";
     case Method::kClassical: return "classical";
   }

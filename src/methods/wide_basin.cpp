@@ -33,8 +33,8 @@ bool hasFreeMarkerGroup(const SensorSet& sensors) {
 }
 
 // The search scores by the markers alone.
-EvalOptions markersOnly() {
-  EvalOptions eval;
+FrameOptions markersOnly() {
+  FrameOptions eval;
   eval.group_weight[1] = eval.group_weight[2] = 0.0;
   return eval;
 }

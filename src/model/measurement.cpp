@@ -121,133 +121,145 @@ void robustify(const RobustLoss& loss, ReadingJacobian* rj, bool jac, int nq) {
 
 }  // namespace
 
+namespace {
+
+// Marker m's reading x: r = (R h_k(q) d + t - x) w / σ, its q-Jacobian (the
+// point Jacobian straight into this reading's own columns, no 3 x dof
+// scratch to zero and gather, then rotated and whitened) and θ-Jacobian.
+void markerReading(const MeasurementModel& model, const SensorParameters& theta,
+                   const Eigen::Matrix3d& R, int m, const double* x, double inv,
+                   const FrameOptions& options, FrameWorkspace* ws, ReadingJacobian* rj) {
+  const MarkerConfig& mc = model.sensors().markers[m];
+  rj->group = SensorGroup::kMarker;
+  rj->sensor = m;
+  rj->rows = 3;
+  const Eigen::Vector3d xb =
+      marker_sensor::positionInBase(ws->kin, mc.link, theta.marker_position[m]);
+  rj->r = (marker_sensor::predict(R, theta.mocap.translation, xb) -
+           Eigen::Vector3d(x[0], x[1], x[2])) * inv;
+  const std::vector<int>& cols = model.markerColumns(m);
+  rj->q_cols = &cols;
+  if (options.jacobians) {
+    rj->Jq.leftCols(cols.size()).setZero();
+    addPointJacobian(model.robot(), ws->kin, mc.link, xb, model.markerSlots(m).data(), rj->Jq);
+    const Eigen::Matrix3d M = inv * R;
+    for (size_t c = 0; c < cols.size(); ++c) {
+      const Eigen::Vector3d v = rj->Jq.col(c);
+      rj->Jq.col(c) = M * v;
+    }
+  }
+  rj->theta_count = 0;
+  if (!options.theta_jacobians) return;
+  const int mo = model.thetaSpace().markerOffset(m);
+  rj->theta_count = 9;
+  for (int i = 0; i < 3; ++i) {
+    rj->theta_index[i] = ThetaSpace::kRotationOffset + i;
+    rj->theta_index[3 + i] = ThetaSpace::kTranslationOffset + i;
+    rj->theta_index[6 + i] = mo + i;
+  }
+  rj->Jtheta.block<3, 3>(0, 0) = inv * marker_sensor::rotationJacobian(R, xb);
+  rj->Jtheta.block<3, 3>(0, 3) = inv * Eigen::Matrix3d::Identity();
+  rj->Jtheta.block<3, 3>(0, 6) = inv * (R * ws->kin.link_pose[mc.link].linear());
+}
+
+// A linear sensor's reading p of `value`: r = (g value + b - p) w / σ and
+// its θ-Jacobian over (gain, bias) at `offset`.
+void gainBiasReading(SensorGroup group, int sensor, const GainBias& gb, double value, double p,
+                     double inv, int offset, bool theta_jacobians, ReadingJacobian* rj) {
+  rj->group = group;
+  rj->sensor = sensor;
+  rj->rows = 1;
+  rj->r[0] = (gb.gain * value + gb.bias - p) * inv;
+  rj->theta_count = 0;
+  if (!theta_jacobians) return;
+  rj->theta_count = 2;
+  rj->theta_index[0] = offset;
+  rj->theta_index[1] = offset + 1;
+  rj->Jtheta(0, 0) = inv * value;
+  rj->Jtheta(0, 1) = inv;
+}
+
+// Each group's readings into ws->readings[*k...], their ρ added to *cost.
+void markerReadings(const MeasurementModel& model, const SensorParameters& theta,
+                      const NoiseModel& noise, const RobustLoss& loss, const double* readings,
+                      const FrameOptions& options, FrameWorkspace* ws, int* k, double* cost) {
+  const double w = options.group_weight[0];
+  if (!readings || !(w > 0)) return;
+  const Eigen::Matrix3d R = theta.mocap.rotation.toRotationMatrix();
+  for (size_t m = 0; m < model.sensors().markers.size(); ++m) {
+    const double* x = readings + 3 * m;
+    if (std::isnan(x[0])) continue;
+    ReadingJacobian& rj = ws->readings[(*k)++];
+    markerReading(model, theta, R, static_cast<int>(m), x, w / noise.marker[m], options, ws, &rj);
+    robustify(loss, &rj, options.jacobians, static_cast<int>(rj.q_cols->size()));
+    *cost += rj.rho;  // one running sum over the frame's readings
+  }
+}
+
+void jointReadings(const MeasurementModel& model, const SensorParameters& theta,
+                     const NoiseModel& noise, const RobustLoss& loss, const double* readings,
+                     const Eigen::VectorXd& q, const FrameOptions& options, FrameWorkspace* ws,
+                     int* k, double* cost) {
+  const double w = options.group_weight[1];
+  if (!readings || !(w > 0)) return;
+  const RobotModel& robot = model.robot();
+  for (size_t s = 0; s < model.sensors().joint_sensors.size(); ++s) {
+    const double p = readings[s];
+    if (std::isnan(p)) continue;
+    const JointSensorConfig& sc = model.sensors().joint_sensors[s];
+    const GainBias& gb = theta.joint_sensor[s];
+    ReadingJacobian& rj = ws->readings[(*k)++];
+    const int si = static_cast<int>(s);
+    const double inv = w / noise.joint[s];
+    gainBiasReading(SensorGroup::kJoint, si, gb, joint_sensor::angle(robot, sc, q), p, inv,
+                    model.thetaSpace().jointOffset(si), options.theta_jacobians, &rj);
+    rj.q_cols = &model.jointColumns(si);
+    if (options.jacobians) rj.Jq(0, 0) = inv * gb.gain * joint_sensor::angleDerivative(robot, sc);
+    robustify(loss, &rj, options.jacobians, 1);
+    *cost += rj.rho;  // one running sum over the frame's readings
+  }
+}
+
+void tendonReadings(const MeasurementModel& model, const SensorParameters& theta,
+                      const NoiseModel& noise, const RobustLoss& loss, const double* readings,
+                      const FrameOptions& options, FrameWorkspace* ws, int* k, double* cost) {
+  const double w = options.group_weight[2];
+  if (!readings || !(w > 0)) return;
+  const RobotModel& robot = model.robot();
+  for (size_t s = 0; s < model.sensors().tendon_sensors.size(); ++s) {
+    const double p = readings[s];
+    if (std::isnan(p)) continue;
+    const TendonSensorConfig& sc = model.sensors().tendon_sensors[s];
+    const GainBias& gb = theta.tendon_sensor[s];
+    ReadingJacobian& rj = ws->readings[(*k)++];
+    const int si = static_cast<int>(s);
+    const double inv = w / noise.tendon[s];
+    gainBiasReading(SensorGroup::kTendon, si, gb, tendon_sensor::length(robot, sc, ws->kin), p,
+                    inv, model.thetaSpace().tendonOffset(si), options.theta_jacobians, &rj);
+    const std::vector<int>& cols = model.tendonColumns(si);
+    rj.q_cols = &cols;
+    if (options.jacobians) {
+      ws->row.setZero();
+      tendon_sensor::addLengthJacobian(robot, sc, ws->kin, inv * gb.gain, ws->row);
+      for (size_t c = 0; c < cols.size(); ++c) rj.Jq(0, c) = ws->row[cols[c]];
+    }
+    robustify(loss, &rj, options.jacobians, static_cast<int>(cols.size()));
+    *cost += rj.rho;  // one running sum over the frame's readings
+  }
+}
+
+}  // namespace
+
 double evaluateFrame(const MeasurementModel& model, const SensorParameters& theta,
                      const NoiseModel& noise, const RobustLoss& loss,
                      const FrameReadings& readings, const Eigen::VectorXd& q,
-                     const EvalOptions& options, FrameWorkspace* ws) {
-  const RobotModel& robot = model.robot();
-  const SensorSet& sensors = model.sensors();
-  const ThetaSpace& space = model.thetaSpace();
-  forwardKinematics(robot, q, &ws->kin);
-  const bool jac = options.jacobians;
-  const bool tjac = options.theta_jacobians;
+                     const FrameOptions& options, FrameWorkspace* ws) {
+  forwardKinematics(model.robot(), q, &ws->kin);
   int k = 0;
   double cost = 0.0;
-
-  // Markers.
-  const double wm = options.group_weight[0];
-  if (readings.marker && wm > 0) {
-    const Eigen::Matrix3d R = theta.mocap.rotation.toRotationMatrix();
-    const Eigen::Vector3d& t = theta.mocap.translation;
-    for (size_t m = 0; m < sensors.markers.size(); ++m) {
-      const double* x = readings.marker + 3 * m;
-      if (std::isnan(x[0])) continue;
-      const MarkerConfig& mc = sensors.markers[m];
-      ReadingJacobian& rj = ws->readings[k++];
-      rj.group = SensorGroup::kMarker;
-      rj.sensor = static_cast<int>(m);
-      rj.rows = 3;
-      const double inv = wm / noise.marker[m];
-      const Eigen::Vector3d xb =
-          marker_sensor::positionInBase(ws->kin, mc.link, theta.marker_position[m]);
-      rj.r = (marker_sensor::predict(R, t, xb) - Eigen::Vector3d(x[0], x[1], x[2])) * inv;
-      const std::vector<int>& cols = model.markerColumns(static_cast<int>(m));
-      rj.q_cols = &cols;
-      if (jac) {
-        // The point Jacobian straight into this reading's own columns (no
-        // 3 x dof scratch to zero and gather per marker), then rotated and
-        // whitened.
-        rj.Jq.leftCols(cols.size()).setZero();
-        addPointJacobian(robot, ws->kin, mc.link, xb,
-                         model.markerSlots(static_cast<int>(m)).data(), rj.Jq);
-        const Eigen::Matrix3d M = inv * R;
-        for (size_t c = 0; c < cols.size(); ++c) {
-          const Eigen::Vector3d v = rj.Jq.col(c);
-          rj.Jq.col(c) = M * v;
-        }
-      }
-      rj.theta_count = 0;
-      if (tjac) {
-        const int mo = space.markerOffset(static_cast<int>(m));
-        rj.theta_count = 9;
-        for (int i = 0; i < 3; ++i) {
-          rj.theta_index[i] = ThetaSpace::kRotationOffset + i;
-          rj.theta_index[3 + i] = ThetaSpace::kTranslationOffset + i;
-          rj.theta_index[6 + i] = mo + i;
-        }
-        rj.Jtheta.block<3, 3>(0, 0) = inv * marker_sensor::rotationJacobian(R, xb);
-        rj.Jtheta.block<3, 3>(0, 3) = inv * Eigen::Matrix3d::Identity();
-        rj.Jtheta.block<3, 3>(0, 6) = inv * (R * ws->kin.link_pose[mc.link].linear());
-      }
-      robustify(loss, &rj, jac, static_cast<int>(cols.size()));
-      cost += rj.rho;
-    }
-  }
-
-  // Joint sensors.
-  const double wj = options.group_weight[1];
-  if (readings.joint && wj > 0) {
-    for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
-      const double p = readings.joint[s];
-      if (std::isnan(p)) continue;
-      const JointSensorConfig& sc = sensors.joint_sensors[s];
-      const GainBias& gb = theta.joint_sensor[s];
-      ReadingJacobian& rj = ws->readings[k++];
-      rj.group = SensorGroup::kJoint;
-      rj.sensor = static_cast<int>(s);
-      rj.rows = 1;
-      const double inv = wj / noise.joint[s];
-      const double a = joint_sensor::angle(robot, sc, q);
-      rj.r[0] = (gb.gain * a + gb.bias - p) * inv;
-      rj.q_cols = &model.jointColumns(static_cast<int>(s));
-      if (jac) rj.Jq(0, 0) = inv * gb.gain * joint_sensor::angleDerivative(robot, sc);
-      rj.theta_count = 0;
-      if (tjac) {
-        rj.theta_count = 2;
-        rj.theta_index[0] = space.jointOffset(static_cast<int>(s));
-        rj.theta_index[1] = rj.theta_index[0] + 1;
-        rj.Jtheta(0, 0) = inv * a;
-        rj.Jtheta(0, 1) = inv;
-      }
-      robustify(loss, &rj, jac, 1);
-      cost += rj.rho;
-    }
-  }
-
-  // Tendon sensors.
-  const double wt = options.group_weight[2];
-  if (readings.tendon && wt > 0) {
-    for (size_t s = 0; s < sensors.tendon_sensors.size(); ++s) {
-      const double p = readings.tendon[s];
-      if (std::isnan(p)) continue;
-      const TendonSensorConfig& sc = sensors.tendon_sensors[s];
-      const GainBias& gb = theta.tendon_sensor[s];
-      ReadingJacobian& rj = ws->readings[k++];
-      rj.group = SensorGroup::kTendon;
-      rj.sensor = static_cast<int>(s);
-      rj.rows = 1;
-      const double inv = wt / noise.tendon[s];
-      const double L = tendon_sensor::length(robot, sc, ws->kin);
-      rj.r[0] = (gb.gain * L + gb.bias - p) * inv;
-      const std::vector<int>& cols = model.tendonColumns(static_cast<int>(s));
-      rj.q_cols = &cols;
-      if (jac) {
-        ws->row.setZero();
-        tendon_sensor::addLengthJacobian(robot, sc, ws->kin, inv * gb.gain, ws->row);
-        for (size_t c = 0; c < cols.size(); ++c) rj.Jq(0, c) = ws->row[cols[c]];
-      }
-      rj.theta_count = 0;
-      if (tjac) {
-        rj.theta_count = 2;
-        rj.theta_index[0] = space.tendonOffset(static_cast<int>(s));
-        rj.theta_index[1] = rj.theta_index[0] + 1;
-        rj.Jtheta(0, 0) = inv * L;
-        rj.Jtheta(0, 1) = inv;
-      }
-      robustify(loss, &rj, jac, static_cast<int>(cols.size()));
-      cost += rj.rho;
-    }
-  }
+  markerReadings(model, theta, noise, loss, readings.marker, options, ws, &k, &cost);
+  jointReadings(model, theta, noise, loss, readings.joint, q, options, ws, &k, &cost);
+  tendonReadings(model, theta, noise, loss, readings.tendon, options, ws, &k, &cost);
   ws->count = k;
   return 0.5 * cost;
 }

@@ -49,7 +49,7 @@ PassStats costPass(const Problem& problem, const SensorParameters& theta, const 
   const int T = obs.num_frames;
   const int dof = problem.model.dof();
   std::vector<PassStats> chunk_stats(numChunks(T));
-  EvalOptions eo;
+  FrameOptions eo;
   eo.jacobians = leverage;
   parallelFor(numChunks(T), problem.threads, [&](int chunk, int tid) {
     FrameWorkspace& w = (*ws)[tid];
@@ -94,7 +94,7 @@ std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
   const MeasurementModel& model = problem.model;
   const int T = problem.obs.num_frames;
   std::vector<std::vector<DownweightedReading>> per_chunk(numChunks(T));
-  EvalOptions eo;
+  FrameOptions eo;
   eo.jacobians = false;
   parallelFor(numChunks(T), problem.threads, [&](int chunk, int tid) {
     FrameWorkspace& w = (*ws)[tid];

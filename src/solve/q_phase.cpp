@@ -98,7 +98,7 @@ struct FrameSolver {
   const NoiseModel& noise;
   const RobustLoss& loss;
   const QPhaseOptions& options;
-  EvalOptions with_jac, no_jac;
+  FrameOptions with_jac, no_jac;
   Eigen::VectorXd lower, upper;
   Eigen::MatrixXd H, A;
   Eigen::VectorXd g, step, q_new;
@@ -315,11 +315,11 @@ double trackingPass(const MeasurementModel& model, const SensorParameters& theta
 
 double totalCost(const MeasurementModel& model, const SensorParameters& theta,
                  const NoiseModel& noise, const RobustLoss& loss,
-                 const Observations& obs, const EvalOptions& eval, int threads,
+                 const Observations& obs, const FrameOptions& eval, int threads,
                  std::vector<FrameWorkspace>* workspaces, QState* state) {
   const int T = obs.num_frames;
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(workspaces->size()));
-  EvalOptions e = eval;
+  FrameOptions e = eval;
   e.jacobians = false;
   e.theta_jacobians = false;
   state->cost.resize(T);

@@ -15,7 +15,7 @@ struct QPhaseOptions {
   int max_steps = 30;       // per frame, for lm-batch and bfgs
   double step_tolerance = 1e-10;
   int threads = 0;
-  EvalOptions eval;         // group weights; jacobian flags are set inside
+  FrameOptions eval;         // group weights; jacobian flags are set inside
   std::vector<bool> frozen; // q columns held at their value (empty: none)
 };
 
@@ -52,7 +52,7 @@ double trackingPass(const MeasurementModel& model, const SensorParameters& theta
 // Total cost ½ Σ ρ at the current q (no Jacobians); fills state->cost.
 double totalCost(const MeasurementModel& model, const SensorParameters& theta,
                  const NoiseModel& noise, const RobustLoss& loss,
-                 const Observations& obs, const EvalOptions& eval, int threads,
+                 const Observations& obs, const FrameOptions& eval, int threads,
                  std::vector<FrameWorkspace>* workspaces, QState* state);
 
 // The Gauss-Newton system of one frame from the last evaluation in ws:

@@ -23,8 +23,8 @@ void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
                  const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
                  const Eigen::VectorXd& qt, int t, const std::vector<int>& free_of,
                  FrameWorkspace* w, FrameSystem* fs, Eigen::MatrixXd* S, Eigen::VectorXd* gt,
-                 double* cost, const EvalOptions& groups) {
-  EvalOptions eo = groups;
+                 double* cost, const FrameOptions& groups) {
+  FrameOptions eo = groups;
   eo.jacobians = true;
   eo.theta_jacobians = true;
   *cost += evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), qt, eo, w);
@@ -55,7 +55,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               const NoiseModel& noise, const RobustLoss& loss,
                               const Observations& obs, const RowMatrix& q, double lambda,
                               bool with_gradient, int threads,
-                              std::vector<FrameWorkspace>* ws, const EvalOptions& groups,
+                              std::vector<FrameWorkspace>* ws, const FrameOptions& groups,
                               const FrameVisitor& visit) {
   ReducedSystem out;
   const ThetaSpace& space = model.thetaSpace();
@@ -120,13 +120,13 @@ Eigen::VectorXd reducedGradient(const MeasurementModel& model, const SensorParam
                                 const NoiseModel& noise, const RobustLoss& loss,
                                 const Observations& obs, const RowMatrix& q, double lambda,
                                 const std::vector<int>& free_of, int nf, int threads,
-                                std::vector<FrameWorkspace>* ws, const EvalOptions& groups,
+                                std::vector<FrameWorkspace>* ws, const FrameOptions& groups,
                                 const FrameVisitor& visit, double* cost) {
   const int dof = model.dof();
   const int T = obs.num_frames;
   std::vector<Eigen::VectorXd> bg(kBlocks, Eigen::VectorXd::Zero(nf));
   std::vector<double> bcost(kBlocks, 0.0);
-  EvalOptions eo = groups;
+  FrameOptions eo = groups;
   eo.jacobians = true;
   eo.theta_jacobians = true;
   parallelFor(kBlocks, threads, [&](int block, int tid) {
@@ -162,6 +162,48 @@ Eigen::VectorXd reducedGradient(const MeasurementModel& model, const SensorParam
   return g;
 }
 
+// Every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ) for a step Δθ (dfull,
+// over all θ entries), with H_qθ Δθ = Σ J_qᵀ (J_θ Δθ) over the readings;
+// returns q + Δq, projected onto [lower, upper] when lower is given.
+RowMatrix backSubstitute(const MeasurementModel& model, const SensorParameters& theta,
+                         const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
+                         const RowMatrix& q, const Eigen::VectorXd& dfull, bool theta_moves,
+                         double lambda, const FrameOptions& groups, const Eigen::VectorXd* lower,
+                         const Eigen::VectorXd* upper, int threads, std::vector<FrameWorkspace>* ws) {
+  const int dof = model.dof();
+  const int T = obs.num_frames;
+  RowMatrix q_new = q;
+  FrameOptions eo = groups;
+  eo.jacobians = true;
+  eo.theta_jacobians = theta_moves;
+  parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
+    FrameWorkspace& w = (*ws)[tid];
+    Eigen::MatrixXd H(dof, dof);
+    Eigen::VectorXd rhs(dof), qt(dof), dq(dof);
+    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+      qt = q.row(t).transpose();
+      evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), qt, eo, &w);
+      accumulateNormalEquations(w, &H, &rhs);
+      for (int i = 0; i < w.count; ++i) {
+        const ReadingJacobian& rj = w.readings[i];
+        const std::vector<int>& cols = *rj.q_cols;
+        for (int r = 0; r < rj.rows; ++r) {
+          double v = 0;  // (J_θ Δθ) row by row
+          for (int b = 0; b < rj.theta_count; ++b) v += rj.Jtheta(r, b) * dfull[rj.theta_index[b]];
+          for (size_t a = 0; a < cols.size(); ++a) rhs[cols[a]] += rj.Jq(r, a) * v;
+        }
+      }
+      dampQ(lambda, &H);
+      dq = H.llt().solve(-rhs);
+      if (dq.allFinite())
+        q_new.row(t) = lower ? (qt + dq).cwiseMax(*lower).cwiseMin(*upper).transpose().eval()
+                             : (qt + dq).transpose().eval();
+    }
+  });
+  return q_new;
+}
+
 // Frames whose reduced curvature stands for all of them in a coupled step.
 constexpr int kCurvatureFrames = 500;
 
@@ -170,7 +212,7 @@ constexpr int kCurvatureFrames = 500;
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
-                   SensorParameters* theta, QState* state, const EvalOptions& groups,
+                   SensorParameters* theta, QState* state, const FrameOptions& groups,
                    bool within_limits, const FrameVisitor& visit) {
   const int dof = model.dof();
   const int T = obs.num_frames;
@@ -215,38 +257,9 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                                           : Eigen::VectorXd();
     if (!dtheta.allFinite()) return old_cost;
     const Eigen::VectorXd dfull = space.expandFree(dtheta);
-    // Back-substitute every frame's Δq_t = -(H_qq + λD)⁻¹ (g_q + H_qθ Δθ),
-    // with H_qθ Δθ = Σ J_qᵀ (J_θ Δθ) over the readings.
-    RowMatrix q_new = state->q;
-    EvalOptions eo = groups;
-    eo.jacobians = true;
-    eo.theta_jacobians = nf > 0;
-    parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
-      FrameWorkspace& w = (*ws)[tid];
-      Eigen::MatrixXd H(dof, dof);
-      Eigen::VectorXd rhs(dof), qt(dof), dq(dof);
-      const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
-      for (int t = chunk * kFramesPerChunk; t < end; ++t) {
-        qt = state->q.row(t).transpose();
-        evaluateFrame(model, *theta, noise, loss, frameReadings(obs, t), qt, eo, &w);
-        accumulateNormalEquations(w, &H, &rhs);
-        for (int i = 0; i < w.count; ++i) {
-          const ReadingJacobian& rj = w.readings[i];
-          const std::vector<int>& cols = *rj.q_cols;
-          for (int r = 0; r < rj.rows; ++r) {
-            double v = 0;  // (J_θ Δθ) row by row
-            for (int b = 0; b < rj.theta_count; ++b) v += rj.Jtheta(r, b) * dfull[rj.theta_index[b]];
-            for (size_t a = 0; a < cols.size(); ++a) rhs[cols[a]] += rj.Jq(r, a) * v;
-          }
-        }
-        dampQ(*lambda, &H);
-        dq = H.llt().solve(-rhs);
-        if (dq.allFinite())
-          q_new.row(t) = within_limits
-                             ? (qt + dq).cwiseMax(lower).cwiseMin(upper).transpose().eval()
-                             : (qt + dq).transpose().eval();
-      }
-    });
+    RowMatrix q_new = backSubstitute(model, *theta, noise, loss, obs, state->q, dfull,
+                                           nf > 0, *lambda, groups,
+                                           within_limits ? &lower : nullptr, &upper, threads, ws);
     const SensorParameters theta_new = space.plus(*theta, dfull);
     QState trial;
     trial.q = q_new;

@@ -38,7 +38,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               const Observations& obs, const RowMatrix& q, double lambda,
                               bool with_gradient, int threads,
                               std::vector<FrameWorkspace>* ws,
-                              const EvalOptions& groups = EvalOptions(),
+                              const FrameOptions& groups = FrameOptions(),
                               const FrameVisitor& visit = nullptr);
 
 // One coupled LM step on (q, θ): tries damping *lambda (adapting it) until
@@ -53,7 +53,7 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
                    SensorParameters* theta, QState* state,
-                   const EvalOptions& groups = EvalOptions(), bool within_limits = false,
+                   const FrameOptions& groups = FrameOptions(), bool within_limits = false,
                    const FrameVisitor& visit = nullptr);
 
 }  // namespace stac
