@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/quoted.hpp"
 #include "model/prediction_errors.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/error.hpp"
@@ -254,27 +255,7 @@ std::string number(double v, const char* fmt = "%.6g") {
 
 std::string jsonNumber(double v) { return std::isfinite(v) ? formatNumber(v) : "null"; }
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
+std::string jsonString(const std::string& s) { return doubleQuoted(s, QuoteStyle::kJson); }
 
 const char* kUnit[kNumSensorGroups] = {"m", "raw", "raw"};
 

@@ -8,6 +8,7 @@
 #include <cctype>
 #include <set>
 
+#include "io/quoted.hpp"
 #include "io/rpy.hpp"
 #include "stac/file_io.hpp"
 
@@ -23,29 +24,7 @@ std::string vec(const Eigen::Ref<const Eigen::VectorXd>& v) {
 }
 
 // A YAML double-quoted string.
-std::string quoted(const std::string& s) {
-  static const char* kHex = "0123456789ABCDEF";
-  std::string out = "\"";
-  for (const char ch : s) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (c < 0x20 || c == 0x7f) {
-          out += "\\x";
-          out += kHex[c >> 4];
-          out += kHex[c & 15];
-        } else {
-          out += ch;
-        }
-    }
-  }
-  return out + "\"";
-}
+std::string quoted(const std::string& s) { return doubleQuoted(s, QuoteStyle::kYaml); }
 
 // A name as a plain scalar when that is unambiguous in YAML 1.1 and 1.2 (no
 // number, bool or null look-alike, no indicator characters), else quoted.

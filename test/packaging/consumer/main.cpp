@@ -1,13 +1,16 @@
 // Uses the installed library end to end through its private dependencies:
 // a URDF (urdfdom, tinyxml), a sensors YAML (yaml-cpp), forward kinematics
-// (KDL-built model), and compares a marker with stac::runtime's map.
+// (KDL-built model), compares a marker with stac::runtime's map, and
+// calibrates through the public headers alone.
 #include <cmath>
 #include <cstdio>
 
+#include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/runtime/sensor_maps.hpp"
 #include "stac/sensors_file.hpp"
+#include "stac/simulate.hpp"
 
 int main() {
   const char* urdf = R"(<robot name="two">
@@ -42,6 +45,21 @@ joint_sensors:
                                                  file.theta.joint_sensor[0].bias);
     if ((x - expected).norm() > 1e-12 || std::abs(p - 1.1) > 1e-12) {
       std::fprintf(stderr, "mismatch: x = %g %g %g, p = %g\n", x.x(), x.y(), x.z(), p);
+      return 1;
+    }
+    // The calibration API from the installed headers alone: readings
+    // simulated from the file's values, calibrated from them, a summary.
+    stac::SimulationOptions so;
+    so.frames = 100;
+    const stac::Simulation sim = stac::simulate(stac::MeasurementModel(robot, file.sensors),
+                                                file.theta, so);
+    const stac::Observations obs = stac::bindLog(sim.data.log, file.sensors, "consumer.yaml", 1.0);
+    stac::CalibrationOptions co;
+    co.threads = 1;
+    co.max_iterations = 3;
+    const stac::CalibrationResult r = stac::calibrate(robot, file.sensors, file.theta, obs, co);
+    if (r.summary.frames != 100 || stac::briefReport(robot, file.theta, r).empty()) {
+      std::fprintf(stderr, "calibration: %d frames\n", r.summary.frames);
       return 1;
     }
     std::printf("stac consumer: %d joints, marker at %.3f %.3f %.3f\n", robot.dof(), x.x(),
