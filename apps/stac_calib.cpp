@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <sstream>
 
@@ -95,13 +96,9 @@ void warnIfSuspect(const CalibrationSummary& s) {
   }
 }
 
-int run(const cli::Args& args) {
-  const std::string urdf = args.get("urdf"), log_path = args.get("log");
-  const std::string sensors_path = args.get("sensors");
-  const std::string output = args.get("output", "calibration.yaml");
-  const std::string q_path = args.get("joint-angles");
-  const std::string urdf_out = args.get("urdf-out"), report_path = args.get("report");
-
+// The calibration options from the command line (every method's own
+// options refused with another method).
+CalibrationOptions parseOptions(const cli::Args& args) {
   CalibrationOptions options;
   const std::string method =
       args.getChoice("method", {"stac", "joint", "ekf", "classical"}, "stac");
@@ -113,7 +110,6 @@ int run(const cli::Args& args) {
        {"ekf-initial-q", "ekf-q-speed", "ekf-theta-std", "ekf-iterations"})
     if (args.has(ekf_option) && options.method != Method::kEkf)
       throw cli::UsageError(std::string("--") + ekf_option + " needs --method ekf");
-  const std::string ekf_q_path = args.get("ekf-initial-q");
   options.ekf.q_speed = args.getDouble("ekf-q-speed", options.ekf.q_speed);
   options.ekf.theta_std_scale = args.getDouble("ekf-theta-std", options.ekf.theta_std_scale);
   options.ekf.iterations = args.getInt("ekf-iterations", options.ekf.iterations);
@@ -130,11 +126,97 @@ int run(const cli::Args& args) {
                                     : LossKind::kNone;
   options.loss_scale = args.getDouble("loss-scale", options.loss_scale);
   options.adapt_variance = !args.has("no-adapt-variance");
-  const double mocap_scale = args.getChoice("mocap-units", {"m", "mm"}, "m") == "mm" ? 1e-3 : 1.0;
   std::string error;
   if (options.max_iterations < 1) throw cli::UsageError("--max-iterations must be at least 1");
   if (options.threads < 0) throw cli::UsageError("--threads must be >= 0 (0 = all cores)");
   if (!options.isValid(&error)) throw cli::UsageError(error);
+  return options;
+}
+
+// Progress lines on stderr (not with --quiet); every report kept for the
+// HTML report's convergence plot.
+std::function<void(const IterationReport&)> progressPrinter(bool quiet,
+                                                            std::vector<IterationReport>* history) {
+  return [quiet, history](const IterationReport& r) {
+    history->push_back(r);
+    if (quiet) return;
+    char buf[256];
+    int n = std::snprintf(buf, sizeof buf, "%-5s %4d  cost %-12.6g", r.stage.c_str(),
+                          r.iteration, r.cost);
+    for (int g = 0; g < kNumSensorGroups; ++g)
+      if (r.present[g])
+        n += std::snprintf(buf + n, sizeof buf - n, "  rms %s %-10.4g",
+                           groupName(static_cast<SensorGroup>(g)), r.rms[g]);
+    std::snprintf(buf + n, sizeof buf - n, "  %.2f s", r.elapsed);
+    std::cerr << buf << std::endl;
+  };
+}
+
+// What --urdf-out did: the marker links moved, and the markers it could not
+// place.
+void printUrdfPatch(const UrdfPatch& urdf_patch, const SensorSet& sensors,
+                    const std::string& urdf_out) {
+  std::cout << "calibrated URDF written to " << urdf_out << ": " << urdf_patch.placed.size()
+            << " marker link(s) on the calibrated markers\n";
+  // The calibration's positions stay right for markers on another link;
+  // on their own moved link they are now at its origin.
+  std::string at_origin;
+  for (const PlacedMarker& p : urdf_patch.placed)
+    for (const MarkerConfig& m : sensors.markers)
+      if (m.name == p.marker && m.link_name == p.link) at_origin += " " + p.marker;
+  if (!at_origin.empty())
+    std::cout << "with that URDF these markers are at [0, 0, 0] of their link:" << at_origin << "\n";
+  if (!urdf_patch.unplaced.empty()) {
+    std::cout << "markers not written to the URDF (no marker link of their own):\n";
+    for (const UnplacedMarker& u : urdf_patch.unplaced)
+      std::cout << "  " << u.marker << ": " << u.reason << "\n";
+  }
+}
+
+// --holdout: the cross-sensor prediction table on the held-out tail.
+void printHoldout(const RobotModel& robot, const CalibrationResult& result,
+                  const Observations& all, int test_frames, int threads) {
+  const Observations test = sliceFrames(all, all.num_frames - test_frames, all.num_frames);
+  EvaluationOptions eval;
+  eval.threads = threads;
+  const std::vector<CrossSensorRow> rows =
+      crossSensorTable(robot, result.sensors, result.theta, test, eval);
+  std::cout << "\nheld out: the last " << test_frames << " of " << all.num_frames
+            << " frames (not used in the fit); cross-sensor prediction, mean absolute error\n"
+            << "(markers: Euclidean distance; parentheses: the group also estimated q)\n"
+            << crossSensorTableText(rows);
+}
+
+// The HTML report: residuals on the frames calibrate() used for "before"
+// (the seed θ with q fitted to it), and at the final θ and q (refitted if
+// the method gave none).
+std::string reportHtml(const RobotModel& robot, const SensorsFile& sf,
+                       const CalibrationResult& result, const RowMatrix& q,
+                       const Observations& obs, const CalibrationOptions& options,
+                       const std::vector<IterationReport>& history,
+                       const cli::ReportInputs& inputs) {
+  ResidualSampleOptions ro;
+  ro.threads = options.threads;
+  ro.loss = options.loss;
+  ro.loss_scale = options.loss_scale;
+  const bool have_q = q.rows() == obs.num_frames && q.cols() == robot.dof();
+  return cli::calibrationReportHtml(
+      robot, sf.sensors, sf.theta, result, history,
+      sampleResiduals(robot, sf.sensors, sf.theta, obs, nullptr, ro),
+      sampleResiduals(robot, result.sensors, result.theta, obs, have_q ? &q : nullptr, ro),
+      inputs);
+}
+
+int run(const cli::Args& args) {
+  const std::string urdf = args.get("urdf"), log_path = args.get("log");
+  const std::string sensors_path = args.get("sensors");
+  const std::string output = args.get("output", "calibration.yaml");
+  const std::string q_path = args.get("joint-angles");
+  const std::string urdf_out = args.get("urdf-out"), report_path = args.get("report");
+
+  CalibrationOptions options = parseOptions(args);
+  const std::string ekf_q_path = args.get("ekf-initial-q");
+  const double mocap_scale = args.getChoice("mocap-units", {"m", "mm"}, "m") == "mm" ? 1e-3 : 1.0;
   const double holdout = args.getDouble("holdout", 0.0);
   if (args.has("holdout") && !(holdout > 0.0 && holdout < 1.0))
     throw cli::UsageError("--holdout must be a fraction of the frames between 0 and 1 (e.g. 0.3)");
@@ -168,21 +250,7 @@ int run(const cli::Args& args) {
 
   const bool quiet = args.has("quiet");
   std::vector<IterationReport> history;  // for the report's convergence plot
-  if (!quiet || !report_path.empty()) {
-    options.progress = [quiet, &history](const IterationReport& r) {
-      history.push_back(r);
-      if (quiet) return;
-      char buf[256];
-      int n = std::snprintf(buf, sizeof buf, "%-5s %4d  cost %-12.6g", r.stage.c_str(),
-                            r.iteration, r.cost);
-      for (int g = 0; g < kNumSensorGroups; ++g)
-        if (r.present[g])
-          n += std::snprintf(buf + n, sizeof buf - n, "  rms %s %-10.4g",
-                             groupName(static_cast<SensorGroup>(g)), r.rms[g]);
-      std::snprintf(buf + n, sizeof buf - n, "  %.2f s", r.elapsed);
-      std::cerr << buf << std::endl;
-    };
-  }
+  if (!quiet || !report_path.empty()) options.progress = progressPrinter(quiet, &history);
   RowMatrix q;
   CalibrationResult result;
   try {
@@ -202,21 +270,10 @@ int run(const cli::Args& args) {
   UrdfPatch urdf_patch;
   if (!urdf_out.empty())
     urdf_patch = patchUrdfMarkers(robot, result.sensors, result.theta);
-  std::string report;
-  if (!report_path.empty()) {
-    // Residuals on the frames calibrate() used for "before": the seed θ with
-    // q fitted to it, and the final θ and q (refitted if the method gave none).
-    ResidualSampleOptions ro;
-    ro.threads = options.threads;
-    ro.loss = options.loss;
-    ro.loss_scale = options.loss_scale;
-    const bool have_q = q.rows() == obs.num_frames && q.cols() == robot.dof();
-    report = cli::calibrationReportHtml(
-        robot, sf.sensors, sf.theta, result, history,
-        sampleResiduals(robot, sf.sensors, sf.theta, obs, nullptr, ro),
-        sampleResiduals(robot, result.sensors, result.theta, obs, have_q ? &q : nullptr, ro),
-        {urdf, log_path, sensors_path});
-  }
+  const std::string report =
+      report_path.empty() ? std::string()
+                          : reportHtml(robot, sf, result, q, obs, options, history,
+                                       {urdf, log_path, sensors_path});
   writeOutput(output, yaml);
   if (!q_path.empty()) cli::writeLogOutput(q_path, q_log);
   if (!urdf_out.empty()) writeOutput(urdf_out, urdf_patch.urdf);
@@ -224,35 +281,10 @@ int run(const cli::Args& args) {
   std::cout << briefReport(robot, sf.theta, result) << "\ncalibration written to " << output
             << "\n";
   warnIfSuspect(result.summary);
-  if (!urdf_out.empty()) {
-    std::cout << "calibrated URDF written to " << urdf_out << ": " << urdf_patch.placed.size()
-              << " marker link(s) on the calibrated markers\n";
-    // The calibration's positions stay right for markers on another link;
-    // on their own moved link they are now at its origin.
-    std::string at_origin;
-    for (const PlacedMarker& p : urdf_patch.placed)
-      for (const MarkerConfig& m : sf.sensors.markers)
-        if (m.name == p.marker && m.link_name == p.link) at_origin += " " + p.marker;
-    if (!at_origin.empty())
-      std::cout << "with that URDF these markers are at [0, 0, 0] of their link:" << at_origin << "\n";
-    if (!urdf_patch.unplaced.empty()) {
-      std::cout << "markers not written to the URDF (no marker link of their own):\n";
-      for (const UnplacedMarker& u : urdf_patch.unplaced)
-        std::cout << "  " << u.marker << ": " << u.reason << "\n";
-    }
-  }
+  if (!urdf_out.empty()) printUrdfPatch(urdf_patch, sf.sensors, urdf_out);
   if (!report_path.empty()) std::cout << "report written to " << report_path << "\n";
-  if (test_frames > 0) {
-    const Observations test = sliceFrames(all, all.num_frames - test_frames, all.num_frames);
-    EvaluationOptions eval;
-    eval.threads = options.threads;
-    const std::vector<CrossSensorRow> rows =
-        crossSensorTable(robot, result.sensors, result.theta, test, eval);
-    std::cout << "\nheld out: the last " << test_frames << " of " << all.num_frames
-              << " frames (not used in the fit); cross-sensor prediction, mean absolute error\n"
-              << "(markers: Euclidean distance; parentheses: the group also estimated q)\n"
-              << crossSensorTableText(rows);
-  }
+  if (test_frames > 0)
+    printHoldout(robot, result, all, test_frames, options.threads);
   return 0;
 }
 
