@@ -69,31 +69,16 @@ const char* kSynopsis =
     "marker positions and the mocap frame together with the joint angles of\n"
     "every frame, and writes the calibration (same schema as the sensors file).";
 
-const char* kGroupUnit[kNumSensorGroups] = {"m", "raw", "raw"};
-// A group's fitted σ this many times its seed σ is worth a warning.
-constexpr double kSuspectSigmaRatio = 3.0;
 
-// What a user must not miss even with --quiet: a solve that ran out of
-// iterations, or a sensor group whose fitted noise is far above its seed σ
-// (a wrong minimum, a σ given in the wrong unit, or readings the model does
-// not explain).
-void warnIfSuspect(const CalibrationSummary& s) {
-  if (!s.converged && s.method != "ekf")
-    std::cerr << "stac_calib: warning: not converged after " << s.iterations
-              << " iterations (raise --max-iterations, or check the data)\n";
-  for (int g = 0; g < kNumSensorGroups; ++g) {
-    if (!s.group_present[g] || !(s.seed_group_sigma[g] > 0)) continue;
-    const double ratio = s.group_sigma[g] / s.seed_group_sigma[g];
-    if (ratio <= kSuspectSigmaRatio) continue;
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "stac_calib: warning: the %s readings fit %.3g times worse than their seed "
-                  "sigma (%.3g -> %.3g %s): a wrong minimum, a sigma in the wrong unit, or "
-                  "readings the model does not explain\n",
-                  groupName(static_cast<SensorGroup>(g)), ratio, s.seed_group_sigma[g],
-                  s.group_sigma[g], kGroupUnit[g]);
-    std::cerr << buf;
-  }
+// What a user must not miss even with --quiet: the reasons the result
+// failed its own checks (summary.verdict). Returns the exit code: 4 if any.
+int reportVerdict(const CalibrationSummary& s, const std::string& output) {
+  if (!s.suspect()) return 0;
+  for (const std::string& reason : s.verdict)
+    std::cerr << "stac_calib: warning: " << reason << "\n";
+  std::cerr << "stac_calib: the calibration failed its own checks; written to " << output
+            << " with the reasons in summary.verdict (exit 4)\n";
+  return 4;
 }
 
 // The calibration options from the command line (every method's own
@@ -280,12 +265,12 @@ int run(const cli::Args& args) {
   if (!report_path.empty()) writeOutput(report_path, report);
   std::cout << briefReport(robot, sf.theta, result) << "\ncalibration written to " << output
             << "\n";
-  warnIfSuspect(result.summary);
+  const int verdict_exit = reportVerdict(result.summary, output);
   if (!urdf_out.empty()) printUrdfPatch(urdf_patch, sf.sensors, urdf_out);
   if (!report_path.empty()) std::cout << "report written to " << report_path << "\n";
   if (test_frames > 0)
     printHoldout(robot, result, all, test_frames, options.threads);
-  return 0;
+  return verdict_exit;
 }
 
 }  // namespace

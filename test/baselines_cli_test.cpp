@@ -112,7 +112,10 @@ TEST_F(BaselinesCli, ClassicalRefusesJointsWithoutAJointSensor) {
   // STAC itself takes the same robot.
   r = calib("--log " + file("tendon.csv") + " --sensors " + file("tendon_truth.yaml") +
             " --output " + file("out.yaml") + " --quiet --max-iterations 3");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  // Three iterations need not converge: written either way (0, or 4 with
+  // "not converged" in the verdict), never refused.
+  EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 4) << r.err;
+  EXPECT_FALSE(test::readFile(file("out.yaml")).empty());
 }
 
 TEST_F(BaselinesCli, EkfInitialQWithAWrongColumn) {

@@ -66,9 +66,9 @@ TEST_F(CalibCli, CalibratesAndTheOutputFeedsBack) {
   EXPECT_TRUE(r.err.empty()) << r.err;
 }
 
-// Suspect results still write the calibration (exit 0) but say so on
-// stderr, --quiet or not: a marker σ seeded 20x too small, and a solve cut
-// off by --max-iterations.
+// Suspect results still write the calibration but exit 4 (SPEC §4) with the
+// reasons in summary.verdict and on stderr, --quiet or not: a marker σ seeded
+// 20x too small, and a solve cut off by --max-iterations.
 TEST_F(CalibCli, SuspectResultsAreWarnedAbout) {
   std::string seed = test::readFile(file("seed.yaml"));
   const size_t at = seed.find("sigma: 0.002");
@@ -77,16 +77,28 @@ TEST_F(CalibCli, SuspectResultsAreWarnedAbout) {
   test::writeFile(file("tight.yaml"), seed);
   auto r = calib("--log " + file("data.csv") + " --sensors " + file("tight.yaml") + " --output " +
                  file("cal.yaml") + " --quiet");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_FALSE(test::readFile(file("cal.yaml")).empty());
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  const std::string yaml = test::readFile(file("cal.yaml"));
+  EXPECT_NE(yaml.find("  verdict:\n    - \"the marker readings fit"), std::string::npos) << yaml;
   EXPECT_NE(r.err.find("warning: the marker readings fit"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("not converged"), std::string::npos) << r.err;
 
   r = calib("--log " + file("data.csv") + " --sensors " + file("seed.yaml") + " --output " +
             file("cal1.yaml") + " --max-iterations 1 --quiet");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_NE(test::readFile(file("cal1.yaml")).find("not converged after 1 iterations"),
+            std::string::npos);
   EXPECT_NE(r.err.find("warning: not converged after 1 iterations"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("readings fit"), std::string::npos) << r.err;
+}
+
+// A calibration that reaches the truth passes its own checks.
+TEST_F(CalibCli, SoundCalibrationHasVerdictOk) {
+  const auto r = calib("--log " + file("data.csv") + " --sensors " + file("seed.yaml") +
+                       " --output " + file("ok.yaml") + " --quiet");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(test::readFile(file("ok.yaml")).find("  verdict: ok\n"), std::string::npos);
+  EXPECT_NE(r.out.find("verdict: ok"), std::string::npos) << r.out;
 }
 
 // Every output byte but the timing is the same with 1 and 2 threads.

@@ -64,6 +64,7 @@ void calibrateInferred(double max_swing) {
       const CalibrationResult r = calibrate(robot, inferred.sensors, inferred.theta, obs, options);
       EXPECT_LT(r.summary.after_rms[0], 2.0 * 0.002 * std::sqrt(3.0)) << "markers: wrong basin";
       EXPECT_LT(r.summary.after_rms[1], 2.0 * 0.01) << "pots: wrong basin";
+      EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict.front();
       // Gains are identifiable whatever the gauge: each within 5 of its
       // reported standard deviations (or 1%: a gain the markers pin down
       // well may be off by less than its noise but more than 5 std of a

@@ -55,6 +55,11 @@ struct CalibrationSummary {
   double after_rms[kNumSensorGroups] = {0, 0, 0};
   std::vector<UnidentifiableDirection> unidentifiable;
   std::vector<DownweightedReading> downweighted;
+  // The result's own checks (SPEC §3 summary.verdict): empty when it passed
+  // them ("ok"), else one sentence per failed check. stac_calib exits 4 on a
+  // non-empty verdict.
+  std::vector<std::string> verdict;
+  bool suspect() const { return !verdict.empty(); }
 };
 
 struct CalibrationResult {

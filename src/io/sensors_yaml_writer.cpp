@@ -221,6 +221,12 @@ void summary(std::string& o, const CalibrationSummary& sm) {
   o += "  rms_after: " + perGroup(sm, sm.after_rms) + "\n";
   unidentifiable(o, sm.unidentifiable);
   downweighted(o, sm.downweighted);
+  if (sm.verdict.empty()) {
+    o += "  verdict: ok\n";
+    return;
+  }
+  o += "  verdict:\n";
+  for (const std::string& reason : sm.verdict) o += "    - " + quoted(reason) + "\n";
 }
 
 }  // namespace

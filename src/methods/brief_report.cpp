@@ -108,6 +108,12 @@ std::string briefReport(const RobotModel& robot, const SensorParameters& seed,
     }
   }
   o << diagnostics(s);
+  if (s.verdict.empty()) {
+    o << "\nverdict: ok\n";
+  } else {
+    o << "\nverdict: SUSPECT, the result failed " << s.verdict.size() << " of its own checks:\n";
+    for (const std::string& reason : s.verdict) o << "  - " << reason << "\n";
+  }
   return o.str();
 }
 
