@@ -95,25 +95,25 @@ CalibrationOptions parseOptions(const cli::Args& args) {
        {"ekf-initial-q", "ekf-q-speed", "ekf-theta-std", "ekf-iterations"})
     if (args.has(ekf_option) && options.method != Method::kEkf)
       throw cli::UsageError(std::string("--") + ekf_option + " needs --method ekf");
-  options.ekf.q_speed = args.getDouble("ekf-q-speed", options.ekf.q_speed);
-  options.ekf.theta_std_scale = args.getDouble("ekf-theta-std", options.ekf.theta_std_scale);
-  options.ekf.iterations = args.getInt("ekf-iterations", options.ekf.iterations);
+  options.ekf.q_speed = args.getPositive("ekf-q-speed", options.ekf.q_speed);
+  options.ekf.theta_std_scale = args.getPositive("ekf-theta-std", options.ekf.theta_std_scale);
+  options.ekf.iterations = args.getIntAtLeast("ekf-iterations", options.ekf.iterations, 1);
   const std::string qp = args.getChoice("q-phase", {"lm-iter", "lm-batch", "bfgs"}, "lm-iter");
   options.stac.q_phase = qp == "lm-batch" ? QPhaseMethod::kLmBatch
                     : qp == "bfgs"   ? QPhaseMethod::kBfgs
                                      : QPhaseMethod::kLmIter;
-  options.max_iterations = args.getInt("max-iterations", options.max_iterations);
-  options.tolerance = args.getDouble("tolerance", options.tolerance);
-  options.threads = args.getInt("threads", 0);
+  options.max_iterations = args.getIntAtLeast("max-iterations", options.max_iterations, 1);
+  options.tolerance = args.getNonNegative("tolerance", options.tolerance);
+  options.threads = args.getIntAtLeast("threads", 0, 0, "0 = all cores");
   const std::string loss = args.getChoice("loss", {"none", "huber", "cauchy"}, "none");
   options.loss = loss == "huber" ? LossKind::kHuber
                  : loss == "cauchy" ? LossKind::kCauchy
                                     : LossKind::kNone;
-  options.loss_scale = args.getDouble("loss-scale", options.loss_scale);
+  options.loss_scale = args.getPositive("loss-scale", options.loss_scale);
   options.adapt_variance = !args.has("no-adapt-variance");
+  // Every value was checked above with its flag; this catches a check
+  // the library adds later.
   std::string error;
-  if (options.max_iterations < 1) throw cli::UsageError("--max-iterations must be at least 1");
-  if (options.threads < 0) throw cli::UsageError("--threads must be >= 0 (0 = all cores)");
   if (!options.isValid(&error)) throw cli::UsageError(error);
   return options;
 }
@@ -192,6 +192,19 @@ std::string reportHtml(const RobotModel& robot, const SensorsFile& sf,
       inputs);
 }
 
+// How many of the log's frames the fraction `holdout` (--holdout; 0
+// without it) keeps out of the fit. A time-block split: neighbouring frames
+// are correlated, so the held-out frames are the end of the log, never a
+// random sample.
+int holdoutFrames(double holdout, const cli::Args& args, int frames,
+                  const std::string& log_path) {
+  const int test_frames = static_cast<int>(std::lround(holdout * frames));
+  if (holdout > 0.0 && (test_frames < 1 || test_frames > frames - 2))
+    throw InputError(log_path, args.typed("holdout") + " of " + std::to_string(frames) +
+                                   " frames leaves no frame to fit or none to test");
+  return test_frames;
+}
+
 int run(const cli::Args& args) {
   const std::string urdf = args.get("urdf"), log_path = args.get("log");
   const std::string sensors_path = args.get("sensors");
@@ -202,9 +215,7 @@ int run(const cli::Args& args) {
   CalibrationOptions options = parseOptions(args);
   const std::string ekf_q_path = args.get("ekf-initial-q");
   const double mocap_scale = args.getChoice("mocap-units", {"m", "mm"}, "m") == "mm" ? 1e-3 : 1.0;
-  const double holdout = args.getDouble("holdout", 0.0);
-  if (args.has("holdout") && !(holdout > 0.0 && holdout < 1.0))
-    throw cli::UsageError("--holdout must be a fraction of the frames between 0 and 1 (e.g. 0.3)");
+  const double holdout = args.getFraction("holdout", 0.0, /*open=*/true);
 
   std::vector<std::string> inputs = {urdf, log_path};
   if (!sensors_path.empty()) inputs.push_back(sensors_path);
@@ -217,21 +228,18 @@ int run(const cli::Args& args) {
 
   const RobotModel robot = RobotModel::fromFile(urdf);
   const Log log = readLog(log_path);
+  requireDataRows(log);  // before inference, which would only complain about the header
   const SensorsFile sf = sensors_path.empty() ? inferSensorsFromLog(log, robot)
                                               : loadSensorsFile(sensors_path, robot);
   const Observations all =
       bindLog(log, sf.sensors, sensors_path.empty() ? log_path : sensors_path, mocap_scale);
   if (!ekf_q_path.empty()) options.ekf.initial_q = firstJointAngles(readLog(ekf_q_path), robot);
-  if (all.num_frames == 0) throw InputError(log_path, "the log has no data rows");
-  // A time-block split: neighbouring frames are correlated, so the held-out
-  // frames are the end of the log, never a random sample.
-  const int test_frames = static_cast<int>(std::lround(holdout * all.num_frames));
-  if (holdout > 0.0 && (test_frames < 1 || test_frames > all.num_frames - 2))
-    throw InputError(log_path, "--holdout " + args.get("holdout") + " of " +
-                                   std::to_string(all.num_frames) +
-                                   " frames leaves no frame to fit or none to test");
+  requireReadings(all, sf.sensors, log_path, ReadingCheck::kEverySensor);
+  const int test_frames = holdoutFrames(holdout, args, all.num_frames, log_path);
   const Observations obs =
       test_frames > 0 ? sliceFrames(all, 0, all.num_frames - test_frames) : all;
+  // The frames left to fit must see every sensor too.
+  if (test_frames > 0) requireReadings(obs, sf.sensors, log_path, ReadingCheck::kEverySensor);
 
   const bool quiet = args.has("quiet");
   std::vector<IterationReport> history;  // for the report's convergence plot

@@ -38,7 +38,8 @@ const char* kSynopsis =
     "units). Groups that also estimated q are shown in parentheses.";
 
 // "joint,tendon" -> flags per group; UsageError on an unknown or repeated name.
-void parseGroups(const std::string& flag, const std::string& text, bool out[kNumSensorGroups]) {
+void parseGroups(const cli::Args& args, const std::string& flag, bool out[kNumSensorGroups]) {
+  const std::string text = args.get(flag);
   for (int g = 0; g < kNumSensorGroups; ++g) out[g] = false;
   size_t begin = 0;
   while (true) {
@@ -48,9 +49,9 @@ void parseGroups(const std::string& flag, const std::string& text, bool out[kNum
     for (int g = 0; g < kNumSensorGroups; ++g)
       if (item == groupName(static_cast<SensorGroup>(g))) found = g;
     if (found < 0)
-      throw cli::UsageError("--" + flag + ": unknown sensor group '" + item +
+      throw cli::UsageError(args.typed(flag) + ": unknown sensor group '" + item +
                             "' (expected a comma-separated list of marker, joint, tendon)");
-    if (out[found]) throw cli::UsageError("--" + flag + " names '" + item + "' twice");
+    if (out[found]) throw cli::UsageError(args.typed(flag) + ": names '" + item + "' twice");
     out[found] = true;
     if (end == std::string::npos) break;
     begin = end + 1;
@@ -69,11 +70,10 @@ int run(const cli::Args& args) {
   const std::string json_path = args.get("json");
 
   EvaluationOptions options;
-  parseGroups("use", args.get("use"), options.use);
+  parseGroups(args, "use", options.use);
   const bool explicit_predict = args.has("predict");
-  if (explicit_predict) parseGroups("predict", args.get("predict"), options.predict);
-  options.threads = args.getInt("threads", 0);
-  if (options.threads < 0) throw cli::UsageError("--threads must be >= 0 (0 = all cores)");
+  if (explicit_predict) parseGroups(args, "predict", options.predict);
+  options.threads = args.getIntAtLeast("threads", 0, 0, "0 = all cores");
   const double mocap_scale = args.getChoice("mocap-units", {"m", "mm"}, "m") == "mm" ? 1e-3 : 1.0;
 
   std::vector<std::string> inputs = {urdf, sensors_path, log_path};
@@ -98,7 +98,7 @@ int run(const cli::Args& args) {
   }
   const Log log = readLog(log_path);
   const Observations obs = bindLog(log, sf.sensors, sensors_path, mocap_scale);
-  if (obs.num_frames == 0) throw InputError(log_path, "the log has no data rows");
+  requireReadings(obs, sf.sensors, log_path, ReadingCheck::kAnyFrame);
 
   const EvaluationResult result = evaluatePrediction(robot, sf.sensors, sf.theta, obs, options);
   const std::vector<ParameterError>* truth_ptr = truth_path.empty() ? nullptr : &truth;

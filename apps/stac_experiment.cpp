@@ -74,12 +74,11 @@ int run(const cli::Args& args) {
   context.out_dir = args.get("out");
   context.data_dir = args.get("data", STAC_DATA_DIR);
   context.smoke = args.getChoice("size", {"smoke", "full"}, "full") == "smoke";
-  context.threads = args.getInt("threads", 0);
-  context.seed = static_cast<std::uint64_t>(args.getInt("seed", 1));
-  if (context.threads < 0) throw cli::UsageError("--threads must be >= 0 (0 = all cores)");
+  context.threads = args.getIntAtLeast("threads", 0, 0, "0 = all cores");
+  context.seed = args.getUnsigned("seed", 1);
   struct stat st;
   if (stat(context.out_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-    throw cli::UsageError("--out " + context.out_dir + ": not an existing folder");
+    throw cli::UsageError(args.typed("out") + ": not an existing folder");
   const std::string which = args.getChoice("run", {"fig6", "fig7", "tables", "all"}, "all");
   const auto start = std::chrono::steady_clock::now();
   if (which == "fig6" || which == "all") std::cout << experiments::runFig6(context) << std::endl;

@@ -3,9 +3,7 @@
 //   stac_simulate --urdf robot.urdf --sensors truth.yaml --frames N
 //                 --log data.csv [--joint-angles q_true.csv] [--seed S]
 //                 [--rate HZ] [--noise-scale K] [--dropout P] [--outliers P]
-#include <cerrno>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -51,37 +49,14 @@ const std::vector<Option> kOptions = {
     {"outliers", "P", "fraction of readings replaced by gross errors (default 0)", false},
 };
 
-std::uint64_t parseSeed(const Args& args) {
-  if (!args.has("seed")) return 1;
-  const std::string s = args.get("seed");
-  const bool digits =
-      !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
-  errno = 0;
-  char* end = nullptr;
-  const unsigned long long v = digits ? std::strtoull(s.c_str(), &end, 10) : 0;
-  if (!digits || errno == ERANGE || *end != '\0')
-    throw UsageError("--seed expects a non-negative integer (at most 2^64-1), got '" +
-                     s + "'");
-  return static_cast<std::uint64_t>(v);
-}
-
 int run(const Args& args) {
   stac::SimulationOptions options;
-  options.frames = args.getInt("frames", 0);
-  options.rate_hz = args.getDouble("rate", options.rate_hz);
-  options.noise_scale = args.getDouble("noise-scale", options.noise_scale);
-  options.dropout = args.getDouble("dropout", options.dropout);
-  options.outliers = args.getDouble("outliers", options.outliers);
-  options.seed = parseSeed(args);
-  if (options.frames < 1)
-    throw UsageError("--frames must be at least 1, got " + args.get("frames"));
-  if (!(options.rate_hz > 0)) throw UsageError("--rate must be positive, got " + args.get("rate"));
-  if (!(options.noise_scale >= 0))
-    throw UsageError("--noise-scale must be non-negative, got " + args.get("noise-scale"));
-  if (!(options.dropout >= 0 && options.dropout <= 1))
-    throw UsageError("--dropout must be in [0, 1], got " + args.get("dropout"));
-  if (!(options.outliers >= 0 && options.outliers <= 1))
-    throw UsageError("--outliers must be in [0, 1], got " + args.get("outliers"));
+  options.frames = args.getIntAtLeast("frames", 0, 1);
+  options.rate_hz = args.getPositive("rate", options.rate_hz);
+  options.noise_scale = args.getNonNegative("noise-scale", options.noise_scale);
+  options.dropout = args.getFraction("dropout", options.dropout);
+  options.outliers = args.getFraction("outliers", options.outliers);
+  options.seed = args.getUnsigned("seed", 1);
   std::string error;
   if (!options.isValid(&error)) throw UsageError(error);
 

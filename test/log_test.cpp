@@ -316,5 +316,69 @@ TEST(BindLog, ExtraColumnsAreListed) {
   }
 }
 
+// A header-only log parses to no frames; binding it is an error naming the
+// file (and, under UBSan, no Eigen block of the empty matrix).
+TEST(BindLog, HeaderOnlyLogHasNoDataRows) {
+  const Log log = parseLog(
+      "time,l_elbow_pot,neck_cyl_1,m_forearm.x,m_forearm.y,m_forearm.z,link_3.0_tip.x,"
+      "link_3.0_tip.y,link_3.0_tip.z\n\n# only a comment\n\n",
+      "d.csv");
+  EXPECT_EQ(log.numFrames(), 0);
+  EXPECT_EQ(log.values.cols(), 8);
+  try {
+    bindLog(log, exampleSensors(), "s.yaml", 1.0);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "d.csv:1: the log has no data rows (a header and nothing after it)");
+  }
+}
+
+// A 15,000-column header over 40,000 empty lines (100 KB): the reader
+// reserves by what the bytes can hold, not lines x columns (4.8 GB).
+TEST(ParseLog, WideHeaderOverEmptyLinesStaysSmall) {
+  std::string csv;
+  for (int c = 0; c < 15000; ++c) csv += (c ? ",c" : "c") + std::to_string(c);
+  csv += std::string(40000, '\n');
+  const Log log = parseLog(csv, "d.csv");
+  EXPECT_EQ(log.numFrames(), 0);
+  EXPECT_EQ(log.values.cols(), 15000);
+}
+
+TEST(RequireReadings, NamesTheLogAndWhatIsMissing) {
+  const SensorSet sensors = exampleSensors();
+  const Observations obs = bindLog(parseLog(kBindCsv, "d.csv"), sensors, "s.yaml", 1.0);
+  EXPECT_NO_THROW(requireReadings(obs, sensors, "d.csv", ReadingCheck::kEverySensor));
+  // The tendon column emptied, and one marker coordinate in every row.
+  const Observations no_tendon = bindLog(
+      parseLog("time,link_3.0_tip.z,l_elbow_pot,neck_cyl_1,m_forearm.x,m_forearm.y,m_forearm.z,"
+               "link_3.0_tip.x,link_3.0_tip.y\n0,3,0.5,,1,2,3,1,\n0.1,3,0.5,nan,1,2,3,1,\n",
+               "d.csv"),
+      sensors, "s.yaml", 1.0);
+  EXPECT_NO_THROW(requireReadings(no_tendon, sensors, "d.csv", ReadingCheck::kAnyFrame));
+  try {
+    requireReadings(no_tendon, sensors, "d.csv", ReadingCheck::kEverySensor);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "d.csv: no reading at all in the 2 frame(s) for marker 'link_3.0_tip', tendon "
+                 "sensor 'neck_cyl_1': a calibration cannot estimate what nothing measures "
+                 "(give it readings, or remove it from the sensors)");
+  }
+  const Observations empty = bindLog(
+      parseLog("time,link_3.0_tip.z,l_elbow_pot,neck_cyl_1,m_forearm.x,m_forearm.y,m_forearm.z,"
+               "link_3.0_tip.x,link_3.0_tip.y\n0,,,,,,,,\n0.1,nan,,,NaN,,,,\n",
+               "d.csv"),
+      sensors, "s.yaml", 1.0);
+  for (ReadingCheck check : {ReadingCheck::kAnyFrame, ReadingCheck::kEverySensor}) {
+    try {
+      requireReadings(empty, sensors, "d.csv", check);
+      FAIL();
+    } catch (const InputError& e) {
+      EXPECT_STREQ(e.what(),
+                   "d.csv: no usable frame: every reading of the 2 frame(s) is empty (or nan)");
+    }
+  }
+}
+
 }  // namespace
 }  // namespace stac

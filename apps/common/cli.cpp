@@ -1,5 +1,6 @@
 #include "common/cli.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <exception>
@@ -19,13 +20,20 @@ std::string Args::get(const std::string& name, const std::string& fallback) cons
   return it == values_.end() ? fallback : it->second;
 }
 
+std::string Args::typed(const std::string& name) const {
+  return "--" + name + (typed_inline_.count(name) ? "=" : " ") + get(name);
+}
+
+void Args::bad(const std::string& name, const std::string& what) const {
+  throw UsageError(typed(name) + ": " + what);
+}
+
 double Args::getDouble(const std::string& name, double fallback) const {
   if (!has(name)) return fallback;
   const std::string s = get(name);
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0' || !std::isfinite(v))
-    throw UsageError("--" + name + " expects a number, got '" + s + "'");
+  if (s.empty() || *end != '\0' || !std::isfinite(v)) bad(name, "expects a finite number");
   return v;
 }
 
@@ -33,10 +41,51 @@ int Args::getInt(const std::string& name, int fallback) const {
   if (!has(name)) return fallback;
   const std::string s = get(name);
   char* end = nullptr;
+  errno = 0;
   const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0' || v < -1000000000L || v > 1000000000L)
-    throw UsageError("--" + name + " expects an integer, got '" + s + "'");
+  if (s.empty() || *end != '\0' || errno == ERANGE || v < -1000000000L || v > 1000000000L)
+    bad(name, "expects an integer");
   return static_cast<int>(v);
+}
+
+double Args::getPositive(const std::string& name, double fallback) const {
+  const double v = getDouble(name, fallback);
+  if (has(name) && !(v > 0)) bad(name, "must be positive and finite");
+  return v;
+}
+
+double Args::getNonNegative(const std::string& name, double fallback) const {
+  const double v = getDouble(name, fallback);
+  if (has(name) && !(v >= 0)) bad(name, "must be finite and >= 0");
+  return v;
+}
+
+double Args::getFraction(const std::string& name, double fallback, bool open) const {
+  const double v = getDouble(name, fallback);
+  if (!has(name)) return v;
+  if (open && !(v > 0 && v < 1)) bad(name, "must be a fraction strictly between 0 and 1");
+  if (!open && !(v >= 0 && v <= 1)) bad(name, "must be a fraction in [0, 1]");
+  return v;
+}
+
+int Args::getIntAtLeast(const std::string& name, int fallback, int min,
+                        const std::string& meaning) const {
+  const int v = getInt(name, fallback);
+  if (has(name) && v < min)
+    bad(name, "must be at least " + std::to_string(min) +
+                  (meaning.empty() ? "" : " (" + meaning + ")"));
+  return v;
+}
+
+std::uint64_t Args::getUnsigned(const std::string& name, std::uint64_t fallback) const {
+  if (!has(name)) return fallback;
+  const std::string s = get(name);
+  // strtoull accepts "-3" (as 2^64-3) and leading blanks: digits only.
+  const bool digits = !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+  errno = 0;
+  const unsigned long long v = digits ? std::strtoull(s.c_str(), nullptr, 10) : 0;
+  if (!digits || errno == ERANGE) bad(name, "expects a non-negative integer (at most 2^64-1)");
+  return static_cast<std::uint64_t>(v);
 }
 
 std::string Args::getChoice(const std::string& name,
@@ -49,7 +98,7 @@ std::string Args::getChoice(const std::string& name,
     if (c == v) return v;
     list += (list.empty() ? "" : "|") + c;
   }
-  throw UsageError("--" + name + " must be one of " + list + ", got '" + v + "'");
+  bad(name, "must be one of " + list);
 }
 
 Args parseArgs(int argc, char** argv, const std::vector<Option>& options) {
@@ -81,6 +130,7 @@ Args parseArgs(int argc, char** argv, const std::vector<Option>& options) {
     if (args.values_.count(name))
       throw UsageError("--" + name + " given twice");
     args.values_[name] = value;
+    if (inline_value) args.typed_inline_.insert(name);
   }
   for (const Option& o : options)
     if (o.required && !args.has(o.name))

@@ -51,11 +51,27 @@ struct Observations {
   RowMatrix tendon;          // frames x tendon sensors
 };
 
+// Throws InputError naming the log when it has no data row (a header
+// only, or nothing but empty lines and comments after it).
+void requireDataRows(const Log& log);
+
 // mocap_scale multiplies marker columns (0.001 for --mocap-units mm).
 // Every log column must belong to a sensor and every sensor must have its
-// column(s): either mismatch throws an InputError naming both files.
+// column(s): either mismatch throws an InputError naming both files. A log
+// without data rows throws as requireDataRows does.
 Observations bindLog(const Log& log, const SensorSet& sensors,
                      const std::string& sensors_source, double mocap_scale);
+
+// What must hold of the readings for a use of the observations:
+//   kAnyFrame     at least one frame with a reading (evaluation);
+//   kEverySensor  that, and a reading of every sensor and marker in some
+//                 frame: a calibration cannot estimate what nothing measures.
+enum class ReadingCheck { kAnyFrame, kEverySensor };
+
+// Throws InputError naming log_path and what is missing (every sensor and
+// marker without a reading, by name).
+void requireReadings(const Observations& obs, const SensorSet& sensors,
+                     const std::string& log_path, ReadingCheck check);
 
 // Frames [begin, end) of the observations.
 Observations sliceFrames(const Observations& obs, int begin, int end);

@@ -117,7 +117,10 @@ class LogParser {
     if (header_.empty()) throw InputError(log_.path, "the log is empty: no header line");
     const Eigen::Index rows = static_cast<Eigen::Index>(log_.line_of_frame.size());
     const Eigen::Index cols = static_cast<Eigen::Index>(log_.columns.size());
-    log_.values = Eigen::Map<RowMatrix>(values_.data(), rows, cols);
+    // Copied only when there is something to copy: a header-only log has
+    // no data buffer, and Eigen would offset its null pointer.
+    log_.values.resize(rows, cols);
+    if (!values_.empty()) std::copy(values_.begin(), values_.end(), log_.values.data());
     return std::move(log_);
   }
 
@@ -179,13 +182,19 @@ class LogParser {
     reserveFrames();
   }
 
-  // At most one frame per remaining line: reserve once.
+  // Reserves once for the frames the rest of the text can hold: at most
+  // one per remaining line, and a data row of n cells takes at least n
+  // bytes (n - 1 commas and its newline). The second bound keeps memory in
+  // proportion to the file: a wide header over many empty lines would
+  // otherwise ask for lines x columns doubles (gigabytes from 100 KB).
   void reserveFrames() {
-    const auto rest = text_.begin() + static_cast<std::ptrdiff_t>(std::min(pos_, text_.size()));
-    const size_t lines_left = static_cast<size_t>(std::count(rest, text_.end(), '\n')) + 1;
-    values_.reserve(lines_left * log_.columns.size());
-    if (time_col_ >= 0) log_.time.reserve(lines_left);
-    log_.line_of_frame.reserve(lines_left);
+    const size_t rest = text_.size() - std::min(pos_, text_.size());
+    const auto begin = text_.end() - static_cast<std::ptrdiff_t>(rest);
+    const size_t lines_left = static_cast<size_t>(std::count(begin, text_.end(), '\n')) + 1;
+    const size_t frames = std::min(lines_left, rest / header_.size() + 1);
+    values_.reserve(frames * log_.columns.size());
+    if (time_col_ >= 0) log_.time.reserve(frames);
+    log_.line_of_frame.reserve(frames);
   }
 
   // The careful path: every cell on its own, so that an error names it.
@@ -341,12 +350,14 @@ void bindMarkers(const Log& log, const std::vector<MarkerConfig>& markers, doubl
 }
 
 // Joint or tendon sensors: one column each, sensor s into column s of *out.
+// Element by element: no Eigen column of a matrix that may have no rows.
 template <class SensorConfig>
 void bindScalarSensors(const Log& log, const std::vector<SensorConfig>& sensors,
                        ColumnTaker& columns, RowMatrix* out) {
   for (size_t s = 0; s < sensors.size(); ++s) {
     const int c = columns.take(sensors[s].name);
-    if (c >= 0) out->col(s) = log.values.col(c);
+    if (c < 0) continue;
+    for (int t = 0; t < log.numFrames(); ++t) (*out)(t, s) = log.values(t, c);
   }
 }
 
@@ -392,6 +403,7 @@ Observations bindLog(const Log& log, const SensorSet& sensors, const std::string
   const std::string problem =
       columnMismatch(columns.missing(), columns.unused(log.columns), sensors_source);
   if (!problem.empty()) throw InputError(log.path, log.header_line, 0, problem);
+  requireDataRows(log);  // after the header's check, which has more to say
   return obs;
 }
 
@@ -402,6 +414,10 @@ Observations sliceFrames(const Observations& obs, int begin, int end) {
   out.num_frames = std::max(0, end - begin);
   out.time_name = obs.time_name;
   if (!obs.time.empty()) out.time.assign(obs.time.begin() + begin, obs.time.begin() + end);
+  out.marker.resize(out.num_frames, obs.marker.cols());
+  out.joint.resize(out.num_frames, obs.joint.cols());
+  out.tendon.resize(out.num_frames, obs.tendon.cols());
+  if (out.num_frames == 0) return out;  // no block of a matrix that may have no rows
   out.marker = obs.marker.middleRows(begin, out.num_frames);
   out.joint = obs.joint.middleRows(begin, out.num_frames);
   out.tendon = obs.tendon.middleRows(begin, out.num_frames);

@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "io/rpy.hpp"
+#include "io/yaml_guard.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
 
@@ -349,6 +350,7 @@ SensorsFile parseSensorsYaml(const std::string& text, const std::string& source_
                              const RobotModel& model) {
   Reader rd(source_name, model);
   std::vector<YAML::Node> docs;
+  checkYamlFlowIndicators(text, source_name);  // what would hang yaml-cpp never reaches it
   try {
     docs = YAML::LoadAll(text);
   } catch (const YAML::ParserException& e) {
