@@ -77,7 +77,7 @@ SensorParameters nearSeed(const SensorSet& s, const SensorParameters& truth, uns
   auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
   auto dir = [&]() { return Eigen::Vector3d(uni(-1, 1), uni(-1, 1), uni(-1, 1)).normalized(); };
   SensorParameters p = truth;
-  if (!s.mocap_frame_fixed) {
+  if (!s.mocap_frame_fixed.any()) {
     p.mocap.rotation =
         Eigen::Quaterniond(Eigen::AngleAxisd(0.05 * k, dir())) * truth.mocap.rotation;
     p.mocap.translation += 0.02 * k * dir();
@@ -85,13 +85,13 @@ SensorParameters nearSeed(const SensorSet& s, const SensorParameters& truth, uns
   for (size_t m = 0; m < s.markers.size(); ++m)
     if (!s.markers[m].fixed) p.marker_position[m] += 0.01 * k * dir();
   for (size_t j = 0; j < s.joint_sensors.size(); ++j) {
-    if (s.joint_sensors[j].fixed) continue;
+    if (s.joint_sensors[j].fixed.any()) continue;
     const double g = truth.joint_sensor[j].gain;
     p.joint_sensor[j].gain = g * (1 + 0.1 * k * (uni(0, 1) < 0.5 ? -1 : 1));
     p.joint_sensor[j].bias += 0.05 * k * std::abs(g) * (uni(0, 1) < 0.5 ? -1 : 1);
   }
   for (size_t j = 0; j < s.tendon_sensors.size(); ++j) {
-    if (s.tendon_sensors[j].fixed) continue;
+    if (s.tendon_sensors[j].fixed.any()) continue;
     const double g = truth.tendon_sensor[j].gain;
     p.tendon_sensor[j].gain = g * (1 + 0.1 * k * (uni(0, 1) < 0.5 ? -1 : 1));
     p.tendon_sensor[j].bias += 0.005 * k * std::abs(g) * (uni(0, 1) < 0.5 ? -1 : 1);
@@ -321,7 +321,7 @@ TEST(Ekf, ArmFromANearSeedAndTheTrueFirstPose) {
 
 TEST(Ekf, FixedSensorIsNotInTheState) {
   test::ArmProblem p = test::makeArmProblem(200, 13, 0.1);
-  p.sensors.joint_sensors[1].fixed = true;
+  p.sensors.joint_sensors[1].fixed = FixedGainBias::both(true);
   SensorParameters seed = nearSeed(p.sensors, p.truth, 5);
   CalibrationOptions o = options(Method::kEkf);
   o.ekf.initial_q = p.q_true.row(0).transpose();

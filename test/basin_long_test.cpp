@@ -60,9 +60,9 @@ SensorParameters paperSeed(const SensorSet& s, const SensorParameters& truth) {
   for (size_t m = 0; m < s.markers.size(); ++m)
     if (!s.markers[m].fixed) seed.marker_position[m].setZero();
   for (size_t j = 0; j < s.joint_sensors.size(); ++j)
-    if (!s.joint_sensors[j].fixed) seed.joint_sensor[j] = {1.0, 0.0};
+    if (!s.joint_sensors[j].fixed.any()) seed.joint_sensor[j] = {1.0, 0.0};
   for (size_t j = 0; j < s.tendon_sensors.size(); ++j)
-    if (!s.tendon_sensors[j].fixed) seed.tendon_sensor[j] = {1.0, 0.0};
+    if (!s.tendon_sensors[j].fixed.any()) seed.tendon_sensor[j] = {1.0, 0.0};
   return seed;
 }
 

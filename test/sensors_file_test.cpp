@@ -135,7 +135,7 @@ TEST(SensorsFile, ReadsTheSpecExample) {
   const SensorsFile f = parse(kSpecExample);
   const SensorSet& s = f.sensors;
   EXPECT_EQ(s.mocap_sigma, 0.002);
-  EXPECT_FALSE(s.mocap_frame_fixed);
+  EXPECT_FALSE(s.mocap_frame_fixed.any());
   ASSERT_EQ(s.markers.size(), 1u);
   EXPECT_EQ(s.markers[0].name, "m_forearm");
   EXPECT_EQ(s.markers[0].link_name, "l_forearm");
@@ -173,7 +173,7 @@ TEST(SensorsFile, Defaults) {
       "tendon_sensors:\n  - {name: c, coupling: {slide: 2}}\n");
   const SensorSet& s = f.sensors;
   EXPECT_EQ(s.mocap_sigma, 0.002);
-  EXPECT_FALSE(s.mocap_frame_fixed);
+  EXPECT_FALSE(s.mocap_frame_fixed.any());
   EXPECT_EQ(s.markers[0].sigma, 0.002);
   EXPECT_FALSE(s.markers[0].sigma_overridden);
   EXPECT_FALSE(s.markers[0].fixed);
@@ -182,7 +182,7 @@ TEST(SensorsFile, Defaults) {
   EXPECT_EQ(f.theta.marker_position[0], Eigen::Vector3d::Zero());
   EXPECT_EQ(s.joint_sensors[0].joint, *model().movableJointIndex("index_j2"));
   EXPECT_EQ(s.joint_sensors[0].sigma, 0.01);
-  EXPECT_FALSE(s.joint_sensors[0].fixed);
+  EXPECT_FALSE(s.joint_sensors[0].fixed.any());
   EXPECT_EQ(f.theta.joint_sensor[0].gain, 1.0);
   EXPECT_EQ(f.theta.joint_sensor[0].bias, 0.0);
   EXPECT_EQ(s.tendon_sensors[0].sigma, 0.01);
@@ -203,10 +203,10 @@ TEST(SensorsFile, FixedEverywhereAndNoMocapSection) {
       "mocap:\n  frame: {fixed: true}\n  markers:\n    - {name: a, link: tool, fixed: true}\n"
       "joint_sensors:\n  - {name: pot, joint: l_elbow, fixed: true}\n"
       "tendon_sensors:\n  - {name: c, coupling: {slide: 2}, fixed: true}\n");
-  EXPECT_TRUE(f.sensors.mocap_frame_fixed);
+  EXPECT_TRUE(f.sensors.mocap_frame_fixed.all());
   EXPECT_TRUE(f.sensors.markers[0].fixed);
-  EXPECT_TRUE(f.sensors.joint_sensors[0].fixed);
-  EXPECT_TRUE(f.sensors.tendon_sensors[0].fixed);
+  EXPECT_TRUE(f.sensors.joint_sensors[0].fixed.all());
+  EXPECT_TRUE(f.sensors.tendon_sensors[0].fixed.all());
   const SensorsFile g = parse(kOnePot);
   EXPECT_FALSE(g.sensors.hasMarkers());
 }
@@ -339,7 +339,7 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
   SensorSet& s = r.sensors;
   SensorParameters& th = r.theta;
   s.mocap_sigma = randomSigma(rng);
-  s.mocap_frame_fixed = rng() % 2;
+  s.mocap_frame_fixed = {rng() % 2 == 1, rng() % 2 == 1};
   const char* links[] = {"torso", "head", "l_forearm", "tool", "index_2"};
   for (int i = 0; i < 5; ++i) {
     MarkerConfig mc;
@@ -359,7 +359,7 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
     c.joint_name = joints[i];
     c.joint = *m.movableJointIndex(c.joint_name);
     c.sigma = randomSigma(rng);
-    c.fixed = rng() % 2;
+    c.fixed = {rng() % 2 == 1, rng() % 2 == 1};
     s.joint_sensors.push_back(c);
     th.joint_sensor.push_back({randomValue(rng), randomValue(rng)});
   }
@@ -367,7 +367,7 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
     TendonSensorConfig c;
     c.name = "cyl_" + std::to_string(i);
     c.sigma = randomSigma(rng);
-    c.fixed = rng() % 2;
+    c.fixed = {rng() % 2 == 1, rng() % 2 == 1};
     if (i < 2) {
       for (const char* l : {"torso", "head", "l_upper"}) {
         PathAnchor a;
@@ -422,7 +422,8 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
 void expectSameSensors(const SensorsFile& f, const SensorSet& s, const SensorParameters& th) {
   const SensorSet& b = f.sensors;
   EXPECT_TRUE(sameBits(b.mocap_sigma, s.mocap_sigma));
-  EXPECT_EQ(b.mocap_frame_fixed, s.mocap_frame_fixed);
+  EXPECT_EQ(b.mocap_frame_fixed.rotation, s.mocap_frame_fixed.rotation);
+  EXPECT_EQ(b.mocap_frame_fixed.translation, s.mocap_frame_fixed.translation);
   ASSERT_EQ(b.markers.size(), s.markers.size());
   for (size_t i = 0; i < s.markers.size(); ++i) {
     EXPECT_EQ(b.markers[i].name, s.markers[i].name);
@@ -440,7 +441,8 @@ void expectSameSensors(const SensorsFile& f, const SensorSet& s, const SensorPar
     EXPECT_EQ(b.joint_sensors[i].joint_name, s.joint_sensors[i].joint_name);
     EXPECT_EQ(b.joint_sensors[i].joint, s.joint_sensors[i].joint);
     EXPECT_TRUE(sameBits(b.joint_sensors[i].sigma, s.joint_sensors[i].sigma));
-    EXPECT_EQ(b.joint_sensors[i].fixed, s.joint_sensors[i].fixed);
+    EXPECT_EQ(b.joint_sensors[i].fixed.gain, s.joint_sensors[i].fixed.gain);
+    EXPECT_EQ(b.joint_sensors[i].fixed.bias, s.joint_sensors[i].fixed.bias);
     EXPECT_TRUE(sameBits(f.theta.joint_sensor[i].gain, th.joint_sensor[i].gain));
     EXPECT_TRUE(sameBits(f.theta.joint_sensor[i].bias, th.joint_sensor[i].bias));
   }
@@ -450,7 +452,8 @@ void expectSameSensors(const SensorsFile& f, const SensorSet& s, const SensorPar
     EXPECT_EQ(x.name, y.name);
     EXPECT_EQ(x.kind, y.kind);
     EXPECT_TRUE(sameBits(x.sigma, y.sigma));
-    EXPECT_EQ(x.fixed, y.fixed);
+    EXPECT_EQ(x.fixed.gain, y.fixed.gain);
+    EXPECT_EQ(x.fixed.bias, y.fixed.bias);
     EXPECT_TRUE(sameBits(f.theta.tendon_sensor[i].gain, th.tendon_sensor[i].gain));
     EXPECT_TRUE(sameBits(f.theta.tendon_sensor[i].bias, th.tendon_sensor[i].bias));
     ASSERT_EQ(x.path.size(), y.path.size());

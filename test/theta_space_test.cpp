@@ -61,8 +61,8 @@ TEST(ThetaSpace, LayoutNamesAndEntries) {
 
 TEST(ThetaSpace, FreeMaskFollowsFixed) {
   test::ArmProblem p = test::makeArmProblem(5, 1);
-  p.sensors.joint_sensors[1].fixed = true;
-  p.sensors.mocap_frame_fixed = true;
+  p.sensors.joint_sensors[1].fixed = FixedGainBias::both(true);
+  p.sensors.mocap_frame_fixed = FixedFrame::both(true);
   const ThetaSpace space(p.sensors);
   int fixed_markers = 0;
   for (const MarkerConfig& m : p.sensors.markers) fixed_markers += m.fixed;
@@ -89,7 +89,7 @@ TEST(ThetaSpace, FreeMaskFollowsFixed) {
   // No markers: the mocap frame is not a parameter.
   SensorSet no_markers = p.sensors;
   no_markers.markers.clear();
-  no_markers.mocap_frame_fixed = false;
+  no_markers.mocap_frame_fixed = FixedFrame::both(false);
   EXPECT_FALSE(ThetaSpace(no_markers).free()[0]);
 }
 
@@ -123,7 +123,7 @@ TEST(ThetaSpace, PlusMinusRoundTrip) {
 
 TEST(ThetaSpace, ExpandFreeAndStd) {
   test::ArmProblem p = test::makeArmProblem(5, 1);
-  p.sensors.tendon_sensors[0].fixed = true;
+  p.sensors.tendon_sensors[0].fixed = FixedGainBias::both(true);
   const ThetaSpace space(p.sensors);
   Eigen::VectorXd values(space.freeSize());
   for (int i = 0; i < space.freeSize(); ++i) values[i] = i + 1;

@@ -46,12 +46,12 @@ test::ArmProblem arm(int frames) {
   return test::makeArmProblem(frames, 11);
 }
 
-// The maps that invert the true pots: q = (p - b) / g = alpha (p - mean) + mid.
+// The maps that invert the true pots: q = (p - b) / g = alpha (p - pivot) + mid.
 Candidate truthMaps(const std::vector<PotGuess>& guesses, const SensorParameters& truth) {
   Candidate c;
   for (const PotGuess& g : guesses) {
     const GainBias& gb = truth.joint_sensor[g.sensor];
-    c.maps.push_back({1.0 / gb.gain, (g.mean - gb.bias) / gb.gain});
+    c.maps.push_back({1.0 / gb.gain, (g.pivot - gb.bias) / gb.gain});
   }
   return c;
 }
@@ -115,7 +115,7 @@ TEST(PotGuesses, MapReadingsOntoTheJointRangeUpToSign) {
 
 TEST(PotGuesses, FixedSensorIsInvertedExactlyAndNeverChanged) {
   test::ArmProblem p = eightyPercentArm();
-  p.sensors.joint_sensors[2].fixed = true;
+  p.sensors.joint_sensors[2].fixed = FixedGainBias::both(true);
   p.seed.joint_sensor[2] = p.truth.joint_sensor[2];
   const std::vector<PotGuess> guesses = makePotGuesses(p.robot, p.sensors, p.seed, p.obs);
   ASSERT_EQ(guesses.size(), 4u);

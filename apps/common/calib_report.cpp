@@ -179,14 +179,14 @@ void sensorSection(std::ostringstream& o, const CalibrationResult& r, const Resi
       const double sigma = g == 0   ? sensors.markers[i].sigma
                            : g == 1 ? sensors.joint_sensors[i].sigma
                                     : sensors.tendon_sensors[i].sigma;
-      const bool fixed = g == 0   ? sensors.markers[i].fixed
-                         : g == 1 ? sensors.joint_sensors[i].fixed
-                                  : sensors.tendon_sensors[i].fixed;
+      const FixedGainBias fixed = g == 0   ? FixedGainBias::both(sensors.markers[i].fixed)
+                                  : g == 1 ? sensors.joint_sensors[i].fixed
+                                           : sensors.tendon_sensors[i].fixed;
       o << "<tr>" << td(groupName(group), true) << td(name, true)
         << td(attachment(sensors, group, i), true)
         << td(n[i] ? num(std::sqrt(sse[i] / n[i])) : "–") << td(st.count ? num(st.rms) : "–")
         << td(st.count ? num(st.mae) : "–") << td(std::to_string(st.count)) << td(num(sigma))
-        << td(fixed ? "yes" : "") << "</tr>";
+        << td(fixed.all() ? "yes" : fixed.gain ? "gain" : fixed.bias ? "bias" : "") << "</tr>";
     }
   }
   o << "</table><p class=\"note\">Markers in metres (Euclidean distance), joint and tendon "
@@ -293,7 +293,8 @@ void unidentifiableSection(std::ostringstream& o, const CalibrationSummary& s) {
   }
   o << "<p>" << s.unidentifiable.size()
     << " direction(s) the data cannot determine; their parameters get an infinite std. Fix "
-       "one parameter of each with <code>fixed: true</code>, or add markers.</p>"
+       "one parameter of each with <code>fixed</code> (e.g. <code>fixed: [bias]</code> on a joint "
+       "sensor), or add markers.</p>"
        "<ul class=\"unidentifiable\">";
   for (const UnidentifiableDirection& d : s.unidentifiable) {
     o << "<li>" << escape(d.reason) << "<br/>";

@@ -44,9 +44,11 @@ ParameterScore scoreParameters(const SensorSet& sensors, const SensorParameters&
     s.diverged += diverged ? 1 : 0;
     ++s.count;
   };
-  if (!sensors.markers.empty() && !sensors.mocap_frame_fixed) {
+  if (!sensors.markers.empty() && !sensors.mocap_frame_fixed.translation) {
     const double dt = d.segment<3>(ThetaSpace::kTranslationOffset).norm();
     add(dt / std::max(truth.mocap.translation.norm(), 0.1), dt > 0.02);
+  }
+  if (!sensors.markers.empty() && !sensors.mocap_frame_fixed.rotation) {
     const double angle = d.segment<3>(ThetaSpace::kRotationOffset).norm();
     add(angle, angle > 0.1);
   }
@@ -56,18 +58,19 @@ ParameterScore scoreParameters(const SensorSet& sensors, const SensorParameters&
     add(dm / std::max(truth.marker_position[m].norm(), 0.01), dm > 0.02);
   }
   // Gains relative, biases in the sensed quantity's unit (bias / |gain|).
-  auto gainBias = [&](int o, const GainBias& t, double bias_threshold) {
+  auto gainBias = [&](int o, const GainBias& t, const FixedGainBias& fixed,
+                      double bias_threshold) {
     const double g = std::abs(d[o]) / std::abs(t.gain);
-    add(g, g > 0.1);
+    if (!fixed.gain) add(g, g > 0.1);
     const double b = std::abs(d[o + 1]) / std::abs(t.gain);
-    add(b, b > bias_threshold);
+    if (!fixed.bias) add(b, b > bias_threshold);
   };
   for (size_t j = 0; j < sensors.joint_sensors.size(); ++j)
-    if (!sensors.joint_sensors[j].fixed)
-      gainBias(space.jointOffset(static_cast<int>(j)), truth.joint_sensor[j], 0.1);
+    gainBias(space.jointOffset(static_cast<int>(j)), truth.joint_sensor[j],
+             sensors.joint_sensors[j].fixed, 0.1);
   for (size_t j = 0; j < sensors.tendon_sensors.size(); ++j)
-    if (!sensors.tendon_sensors[j].fixed)
-      gainBias(space.tendonOffset(static_cast<int>(j)), truth.tendon_sensor[j], 0.005);
+    gainBias(space.tendonOffset(static_cast<int>(j)), truth.tendon_sensor[j],
+             sensors.tendon_sensors[j].fixed, 0.005);
   s.mean_relative_error = s.count > 0 ? sum / s.count : 0.0;
   return s;
 }
@@ -86,8 +89,8 @@ SensorParameters perturbedSeed(const SensorSet& sensors, const SensorParameters&
   // Draw every number whatever is fixed, so the same rng seed perturbs a
   // parameter alike across sensor configurations.
   const Eigen::Vector3d dt = vec(), dr = vec();
-  if (!sensors.mocap_frame_fixed) {
-    seed.mocap.translation += 0.03 * level * dt;
+  if (!sensors.mocap_frame_fixed.translation) seed.mocap.translation += 0.03 * level * dt;
+  if (!sensors.mocap_frame_fixed.rotation) {
     const Eigen::Vector3d w = 0.3 * level * dr;
     if (w.norm() > 0)
       seed.mocap.rotation =
@@ -98,12 +101,11 @@ SensorParameters perturbedSeed(const SensorSet& sensors, const SensorParameters&
     const Eigen::Vector3d d = vec();
     if (!sensors.markers[m].fixed) seed.marker_position[m] += 0.03 * level * d;
   }
-  auto gainBias = [&](GainBias* p, bool fixed, double bias_unit) {
+  auto gainBias = [&](GainBias* p, const FixedGainBias& fixed, double bias_unit) {
     const double dg = n(rng), db = n(rng);
-    if (fixed) return;
     const double g = p->gain;
-    p->gain = g * (1.0 + 0.3 * level * dg);
-    p->bias += bias_unit * level * std::abs(g) * db;
+    if (!fixed.gain) p->gain = g * (1.0 + 0.3 * level * dg);
+    if (!fixed.bias) p->bias += bias_unit * level * std::abs(g) * db;
   };
   for (size_t j = 0; j < sensors.joint_sensors.size(); ++j)
     gainBias(&seed.joint_sensor[j], sensors.joint_sensors[j].fixed, 0.3);

@@ -21,6 +21,29 @@ struct MocapFrame {
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
 };
 
+// Which of a linear sensor's parameters are held at their given values
+// (SPEC §3: `fixed: true`, `false`, `[gain]` or `[bias]`).
+struct FixedGainBias {
+  bool gain = false;
+  bool bias = false;
+  static FixedGainBias both(bool held) { return {held, held}; }
+  bool all() const { return gain && bias; }
+  bool any() const { return gain || bias; }
+  bool operator==(const FixedGainBias& o) const { return gain == o.gain && bias == o.bias; }
+};
+
+// Which parts of the mocap frame are held (`[rotation]`, `[translation]`).
+struct FixedFrame {
+  bool rotation = false;
+  bool translation = false;
+  static FixedFrame both(bool held) { return {held, held}; }
+  bool all() const { return rotation && translation; }
+  bool any() const { return rotation || translation; }
+  bool operator==(const FixedFrame& o) const {
+    return rotation == o.rotation && translation == o.translation;
+  }
+};
+
 struct MarkerConfig {
   std::string name;
   std::string link_name;
@@ -35,7 +58,7 @@ struct JointSensorConfig {
   std::string joint_name;
   int joint = -1;            // RobotModel movable joint index (may be mimic)
   double sigma = 0.01;
-  bool fixed = false;
+  FixedGainBias fixed;
 };
 
 struct PathAnchor {
@@ -57,12 +80,12 @@ struct TendonSensorConfig {
   std::vector<PathAnchor> path;        // kPath: >= 2 anchors
   std::vector<CouplingTerm> coupling;  // kCoupling
   double sigma = 0.01;
-  bool fixed = false;
+  FixedGainBias fixed;
 };
 
 struct SensorSet {
   double mocap_sigma = 0.002;
-  bool mocap_frame_fixed = false;
+  FixedFrame mocap_frame_fixed;
   std::vector<MarkerConfig> markers;
   std::vector<JointSensorConfig> joint_sensors;
   std::vector<TendonSensorConfig> tendon_sensors;

@@ -118,6 +118,53 @@ class Reader {
     fail(n, key, "expected true or false, got '" + s + "'");
   }
 
+  // `fixed`: true or false (every part), or the list of the parts to hold
+  // among `parts` (the item's own, e.g. gain and bias). Returns, per part,
+  // whether it is held.
+  std::vector<bool> heldParts(const YAML::Node& n, const std::string& key, const char* item,
+                              const std::vector<std::string>& parts) const {
+    if (!n.IsSequence()) return std::vector<bool>(parts.size(), boolean(n, key));
+    std::string list;
+    for (const std::string& p : parts) list += (list.empty() ? "" : ", ") + p;
+    std::vector<bool> held(parts.size(), false);
+    std::map<std::string, int> seen;  // part -> line
+    for (const YAML::Node& e : n) {
+      if (!e.IsScalar() || e.Tag() == "!")
+        fail(e, key, "expected true, false or a list of parameter names (" + list + ")");
+      const std::string& name = e.Scalar();
+      const auto it = std::find(parts.begin(), parts.end(), name);
+      if (it == parts.end())
+        fail(e, key,
+             kAnyPart.count(name) ? std::string(item) + " has no " + name + " (its parameters: " +
+                                        list + ")"
+                                  : "unknown parameter '" + name + "' (expected some of: " +
+                                        list + ")");
+      if (seen.count(name))
+        fail(e, key,
+             "'" + name + "' given twice (first on line " + std::to_string(seen[name]) + ")");
+      seen[name] = e.Mark().line + 1;
+      held[it - parts.begin()] = true;
+    }
+    return held;
+  }
+
+  // A marker's position is held or free as a whole: no list.
+  bool markerFixed(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence()) return boolean(n, key);
+    const YAML::Node at = n.size() > 0 ? n[0] : n;
+    const std::string name = at.IsScalar() ? at.Scalar() : "";
+    fail(at, key,
+         (kAnyPart.count(name) && name != "position" ? "a marker has no " + name + "; " : "") +
+             std::string("a marker's position is held or free as a whole (expected true or "
+                         "false, not a list)"));
+  }
+
+  FixedGainBias fixedGainBias(const YAML::Node& n, const std::string& key,
+                              const char* item) const {
+    const std::vector<bool> held = heldParts(n, key, item, {"gain", "bias"});
+    return {held[0], held[1]};
+  }
+
   std::string text(const YAML::Node& n, const std::string& key) const {
     if (!n.IsScalar() || n.Scalar().empty()) fail(n, key, "expected a name");
     return n.Scalar();
@@ -179,6 +226,9 @@ class Reader {
   }
 
   static constexpr const char* kTop = "(top level)";
+  // Every parameter name some item's `fixed` list may give.
+  inline static const std::set<std::string> kAnyPart = {"gain", "bias", "rotation",
+                                                        "translation", "position"};
 
  private:
   std::string file_;
@@ -191,7 +241,11 @@ void readFrame(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameter
   auto f = rd.fields(node, "mocap.frame", {"translation", "rpy", "quaternion", "fixed", "std"});
   if (f.count("translation"))
     th->mocap.translation = rd.vector(f["translation"], "mocap.frame.translation", 3);
-  if (f.count("fixed")) s->mocap_frame_fixed = rd.boolean(f["fixed"], "mocap.frame.fixed");
+  if (f.count("fixed")) {
+    const std::vector<bool> held = rd.heldParts(f["fixed"], "mocap.frame.fixed",
+                                                "the mocap frame", {"rotation", "translation"});
+    s->mocap_frame_fixed = {held[0], held[1]};
+  }
   std::optional<Eigen::Quaterniond> from_q, from_rpy;
   if (f.count("quaternion")) {
     const Eigen::Vector4d q = rd.vector(f["quaternion"], "mocap.frame.quaternion", 4);
@@ -237,7 +291,7 @@ void readMocap(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameter
     mc.link_name = m["link"].Scalar();
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     if (m.count("position")) d = rd.vector(m["position"], key + ".position", 3);
-    if (m.count("fixed")) mc.fixed = rd.boolean(m["fixed"], key + ".fixed");
+    if (m.count("fixed")) mc.fixed = rd.markerFixed(m["fixed"], key + ".fixed");
     mc.sigma = s->mocap_sigma;
     if (m.count("sigma")) {
       mc.sigma = rd.sigma(m["sigma"], key + ".sigma");
@@ -249,11 +303,11 @@ void readMocap(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameter
 }
 
 void readGainBias(Reader& rd, std::map<std::string, YAML::Node>& f, const std::string& key,
-                  double* sigma, bool* fixed, GainBias* gb) {
+                  const char* item, double* sigma, FixedGainBias* fixed, GainBias* gb) {
   if (f.count("gain")) gb->gain = rd.number(f["gain"], key + ".gain");
   if (f.count("bias")) gb->bias = rd.number(f["bias"], key + ".bias");
   if (f.count("sigma")) *sigma = rd.sigma(f["sigma"], key + ".sigma");
-  if (f.count("fixed")) *fixed = rd.boolean(f["fixed"], key + ".fixed");
+  if (f.count("fixed")) *fixed = rd.fixedGainBias(f["fixed"], key + ".fixed", item);
 }
 
 void readJointSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorParameters* th) {
@@ -271,7 +325,7 @@ void readJointSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorPa
     c.joint = rd.joint(f["joint"], key + ".joint");
     c.joint_name = f["joint"].Scalar();
     GainBias gb;
-    readGainBias(rd, f, key, &c.sigma, &c.fixed, &gb);
+    readGainBias(rd, f, key, "a joint sensor", &c.sigma, &c.fixed, &gb);
     s->joint_sensors.push_back(c);
     th->joint_sensor.push_back(gb);
   }
@@ -327,7 +381,7 @@ void readTendonSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorP
     TendonSensorConfig c;
     c.name = rd.sensorName(f["name"], key + ".name", false);
     GainBias gb;
-    readGainBias(rd, f, key, &c.sigma, &c.fixed, &gb);
+    readGainBias(rd, f, key, "a tendon sensor", &c.sigma, &c.fixed, &gb);
     const bool has_path = f.count("path") > 0, has_coupling = f.count("coupling") > 0;
     if (has_path && has_coupling)
       rd.fail(f["coupling"], key + ".coupling", "give either path or coupling, not both");

@@ -46,6 +46,13 @@ std::string scalar(const std::string& s) {
 
 const char* boolean(bool b) { return b ? "true" : "false"; }
 
+// `fixed` as it reads back: true or false when every part or none is held,
+// else the list of the held parts (SPEC §3).
+std::string fixedValue(bool first, bool second, const char* first_name, const char* second_name) {
+  if (first == second) return boolean(first);
+  return std::string("[") + (first ? first_name : second_name) + "]";
+}
+
 std::string residualLine(const std::string& indent, const ResidualStats& r) {
   return indent + "residual: {rms: " + num(r.rms) + ", mae: " + num(r.mae) +
          ", count: " + std::to_string(r.count) + "}\n";
@@ -120,7 +127,9 @@ class Writer {
     o += "    translation: " + vec(th_.mocap.translation) + "\n";
     o += "    rpy: " + vec(toRpy(q)) + "\n";
     o += "    quaternion: " + vec(Eigen::Vector4d(q.w(), q.x(), q.y(), q.z())) + "\n";
-    o += "    fixed: " + std::string(boolean(s_.mocap_frame_fixed)) + "\n";
+    const FixedFrame& fixed = s_.mocap_frame_fixed;
+    o += "    fixed: " + fixedValue(fixed.rotation, fixed.translation, "rotation", "translation") +
+         "\n";
     if (result_)
       o += "    std: {translation: " + vec(result_->std.mocap_translation) +
            ", rotation: " + vec(result_->std.mocap_rotation) + "}\n";
@@ -145,11 +154,12 @@ class Writer {
     }
   }
 
-  static void gainBias(std::string& o, const GainBias& gb, double sigma, bool fixed) {
+  static void gainBias(std::string& o, const GainBias& gb, double sigma,
+                       const FixedGainBias& fixed) {
     o += "    gain: " + num(gb.gain) + "\n";
     o += "    bias: " + num(gb.bias) + "\n";
     o += "    sigma: " + num(sigma) + "\n";
-    o += "    fixed: " + std::string(boolean(fixed)) + "\n";
+    o += "    fixed: " + fixedValue(fixed.gain, fixed.bias, "gain", "bias") + "\n";
   }
 
   static void tendonPath(std::string& o, const TendonSensorConfig& c) {

@@ -54,7 +54,7 @@ std::string diagnostics(const CalibrationSummary& s) {
     o << "none\n";
   } else {
     o << s.unidentifiable.size() << " direction(s) the data cannot determine (fix one of the "
-      << "parameters with `fixed: true`, or add markers):\n";
+      << "parameters with `fixed`, e.g. `fixed: [bias]` on a joint sensor, or add markers):\n";
     for (const UnidentifiableDirection& d : s.unidentifiable) {
       o << "  - " << d.reason << "\n    parameters:";
       for (const std::string& p : d.parameters) o << " " << p;

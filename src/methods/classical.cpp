@@ -64,6 +64,8 @@ bool anglesFromSensors(const RobotModel& robot, const SensorSet& sensors,
   return true;
 }
 
+bool tiedOffset(const FixedGainBias& fixed) { return fixed.bias && !fixed.gain; }
+
 bool classicalFrame(const MeasurementModel& model, const JointSources& sources,
                     const ClassicalParameters& params, const NoiseModel& noise,
                     const RobustLoss& loss, const FrameReadings& readings, FrameWorkspace* ws,
@@ -97,13 +99,17 @@ bool classicalFrame(const MeasurementModel& model, const JointSources& sources,
   denseFrame(model, *ws, &sources.defining, &df);
   *r = df.r;
   *J = df.Jtheta;
-  // Chain rule through q_j = (a p + c - offset) / multiplier.
+  // Chain rule through q_j = (a p + c - offset) / multiplier; a held bias b
+  // ties c = -b a, so that a's column carries c's share too.
   for (int j = 0; j < robot.dof(); ++j) {
     const int s = sources.sensor[j];
     const double p = readings.joint[s];
     const double m = robot.movableJoints()[sensors.joint_sensors[s].joint].multiplier;
     const int o = model.thetaSpace().jointOffset(s);
-    J->col(o) += df.Jq.col(j) * (p / m);
+    const double pa = tiedOffset(sensors.joint_sensors[s].fixed)
+                          ? p - params.theta.joint_sensor[s].bias
+                          : p;
+    J->col(o) += df.Jq.col(j) * (pa / m);
     J->col(o + 1) += df.Jq.col(j) / m;
   }
   return true;
@@ -124,6 +130,8 @@ ClassicalParameters retract(const ThetaSpace& space, const JointSources& sources
     const int o = space.jointOffset(static_cast<int>(j));
     out.inverse[j].a += delta[o];
     out.inverse[j].c += delta[o + 1];
+    if (tiedOffset(space.sensors().joint_sensors[j].fixed))
+      out.inverse[j].c = -p.theta.joint_sensor[j].bias * out.inverse[j].a;
     theta_delta[o] = theta_delta[o + 1] = 0.0;
   }
   out.theta = space.plus(p.theta, theta_delta);
@@ -328,7 +336,9 @@ int solveAdapting(const MethodInput& in, const JointSources& sources, Regression
 }
 
 // Back to (gain, bias) and the information in θ's layout: (a, c) = (1/g,
-// -b/g), so d(a, c)/d(g, b) = [[-1/g², 0], [b/g², -1/g]].
+// -b/g), so d(a, c)/d(g, b) = [[-1/g², 0], [b/g², -1/g]] over the free
+// entries (a held bias: a alone, its column already carrying c = -b a; a
+// held gain: c alone). Held parts keep their exact given values.
 UncertaintyResult toGainBias(const MeasurementModel& model, const JointSources& sources,
                              const ClassicalParameters& p, const Eigen::MatrixXd& H,
                              SensorParameters* theta) {
@@ -337,13 +347,19 @@ UncertaintyResult toGainBias(const MeasurementModel& model, const JointSources& 
   Eigen::MatrixXd Tgb = Eigen::MatrixXd::Identity(space.freeSize(), space.freeSize());
   for (size_t j = 0; j < sources.defining.size(); ++j) {
     if (!sources.defining[j]) continue;
-    theta->joint_sensor[j] = forwardMap(p.inverse[j]);
-    const int k = space.freePosition()[space.jointOffset(static_cast<int>(j))];
-    if (k < 0) continue;  // fixed sensor
-    const double g = theta->joint_sensor[j].gain, b = theta->joint_sensor[j].bias;
-    Tgb(k, k) = -1.0 / (g * g);
-    Tgb(k + 1, k) = b / (g * g);
-    Tgb(k + 1, k + 1) = -1.0 / g;
+    const FixedGainBias& fixed = space.sensors().joint_sensors[j].fixed;
+    if (fixed.all()) continue;  // (a, c) never moved: the given values stand
+    GainBias& gb = theta->joint_sensor[j];
+    const GainBias given = gb;
+    gb = forwardMap(p.inverse[j]);
+    if (fixed.gain) gb = {given.gain, -p.inverse[j].c * given.gain};
+    if (fixed.bias) gb.bias = given.bias;
+    const int o = space.jointOffset(static_cast<int>(j));
+    const int kg = space.freePosition()[o], kb = space.freePosition()[o + 1];
+    const double g = gb.gain, b = gb.bias;
+    if (kg >= 0) Tgb(kg, kg) = -1.0 / (g * g);
+    if (kg >= 0 && kb >= 0) Tgb(kb, kg) = b / (g * g);
+    if (kb >= 0) Tgb(kb, kb) = -1.0 / g;
   }
   const Eigen::MatrixXd info = Tgb.transpose() * H * Tgb;
   return uncertaintyFromInformation(model, *theta, info);

@@ -108,7 +108,8 @@ void addFrame(const MeasurementModel& model, const NoiseModel& noise, const Obse
   if (problem->HasParameterBlock(qt)) order->AddElementToGroup(qt, 0);
 }
 
-// θ's blocks in the second elimination group, fixed ones held constant.
+// θ's blocks in the second elimination group, held ones constant; a (gain,
+// bias) block with one entry held keeps it by a SubsetManifold.
 void addThetaBlocks(const SensorSet& sensors, ThetaBlocks* theta, ceres::Problem* problem,
                     ceres::ParameterBlockOrdering* order) {
   auto block = [&](double* b, bool fixed) {
@@ -116,17 +117,22 @@ void addThetaBlocks(const SensorSet& sensors, ThetaBlocks* theta, ceres::Problem
     order->AddElementToGroup(b, 1);
     if (fixed) problem->SetParameterBlockConstant(b);
   };
+  auto gainBias = [&](double* b, const FixedGainBias& fixed) {
+    block(b, fixed.all());
+    if (problem->HasParameterBlock(b) && fixed.any() && !fixed.all())
+      problem->SetManifold(b, new ceres::SubsetManifold(2, {fixed.gain ? 0 : 1}));
+  };
   if (problem->HasParameterBlock(theta->rotation())) {
     problem->SetManifold(theta->rotation(), new ceres::QuaternionManifold);
-    block(theta->rotation(), sensors.mocap_frame_fixed);
-    block(theta->translation(), sensors.mocap_frame_fixed);
+    block(theta->rotation(), sensors.mocap_frame_fixed.rotation);
+    block(theta->translation(), sensors.mocap_frame_fixed.translation);
   }
   for (size_t m = 0; m < sensors.markers.size(); ++m)
     block(theta->marker(m), sensors.markers[m].fixed);
   for (size_t s = 0; s < sensors.joint_sensors.size(); ++s)
-    block(theta->joint(s), sensors.joint_sensors[s].fixed);
+    gainBias(theta->joint(s), sensors.joint_sensors[s].fixed);
   for (size_t s = 0; s < sensors.tendon_sensors.size(); ++s)
-    block(theta->tendon(s), sensors.tendon_sensors[s].fixed);
+    gainBias(theta->tendon(s), sensors.tendon_sensors[s].fixed);
 }
 
 ceres::Solver::Options solverOptions(const CalibrationOptions& options, int threads,

@@ -27,7 +27,7 @@ constexpr int kSearchFrames = 150;
 
 bool hasFreeMarkerGroup(const SensorSet& sensors) {
   return !sensors.markers.empty() &&
-         (!sensors.mocap_frame_fixed ||
+         (!sensors.mocap_frame_fixed.all() ||
           std::any_of(sensors.markers.begin(), sensors.markers.end(),
                       [](const MarkerConfig& m) { return !m.fixed; }));
 }
@@ -45,156 +45,6 @@ double median(std::vector<double>* v) {
 }
 
 }  // namespace
-
-// ---- Pot guesses and candidates ----
-
-std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& sensors,
-                                     const SensorParameters& theta, const Observations& obs) {
-  std::vector<PotGuess> out;
-  std::vector<bool> covered(robot.dof(), false);
-  for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
-    const JointSensorConfig& sc = sensors.joint_sensors[s];
-    const MovableJoint& mj = robot.movableJoints()[sc.joint];
-    if (mj.is_mimic || covered[mj.q_index]) continue;
-    double lo = robot.lowerLimits()[mj.q_index], hi = robot.upperLimits()[mj.q_index];
-    if (!std::isfinite(lo) || !std::isfinite(hi)) lo = -M_PI, hi = M_PI;
-    double pmin = INFINITY, pmax = -INFINITY, sum = 0;
-    int n = 0;
-    for (int t = 0; t < obs.num_frames; ++t) {
-      const double p = obs.joint(t, s);
-      if (std::isnan(p)) continue;
-      pmin = std::min(pmin, p), pmax = std::max(pmax, p), sum += p, ++n;
-    }
-    if (n < 2) continue;
-    PotGuess g;
-    g.sensor = static_cast<int>(s);
-    g.column = mj.q_index;
-    g.fixed = sc.fixed;
-    g.mean = sum / n;
-    g.map.mid = 0.5 * (lo + hi);
-    if (sc.fixed) {
-      // Known calibration: the exact inverse.
-      const GainBias& gb = theta.joint_sensor[s];
-      if (gb.gain == 0) continue;
-      g.map.alpha = 1.0 / gb.gain;
-      g.map.mid = (g.mean - gb.bias) / gb.gain;
-    } else {
-      if (!(pmax > pmin)) continue;
-      g.map.alpha = 0.8 * (hi - lo) / (pmax - pmin);
-    }
-    covered[mj.q_index] = true;
-    out.push_back(g);
-  }
-  return out;
-}
-
-Candidate guessedMaps(const std::vector<PotGuess>& guesses) {
-  Candidate c;
-  for (const PotGuess& g : guesses) c.maps.push_back(g.map);
-  return c;
-}
-
-void applyCandidate(const std::vector<PotGuess>& guesses, const Candidate& candidate,
-                    const Observations& obs, RowMatrix* q) {
-  for (size_t i = 0; i < guesses.size(); ++i) {
-    const PotGuess& g = guesses[i];
-    const PotMap& map = candidate.maps[i];
-    double last = map.mid;
-    for (int t = 0; t < obs.num_frames; ++t) {
-      const double p = obs.joint(t, g.sensor);
-      if (!std::isnan(p)) last = map.alpha * (p - g.mean) + map.mid;
-      (*q)(t, g.column) = last;
-    }
-  }
-}
-
-Candidate withSigns(const Candidate& c, const std::vector<PotGuess>& guesses,
-                    const std::vector<bool>& flip) {
-  Candidate out = c;
-  for (size_t i = 0; i < guesses.size(); ++i)
-    if (flip[i] && !guesses[i].fixed) out.maps[i].alpha = -out.maps[i].alpha;
-  return out;
-}
-
-Candidate scaled(const Candidate& c, const std::vector<PotGuess>& guesses, double s) {
-  Candidate out = c;
-  for (size_t i = 0; i < guesses.size(); ++i)
-    if (!guesses[i].fixed) out.maps[i].alpha *= s;
-  return out;
-}
-
-Candidate seededMaps(const Candidate& c, const std::vector<PotGuess>& guesses,
-                     const SensorParameters& seed) {
-  // A fixed guess's map is this inverse already.
-  Candidate out = c;
-  for (size_t i = 0; i < guesses.size(); ++i) {
-    const GainBias& gb = seed.joint_sensor[guesses[i].sensor];
-    if (gb.gain == 0 || !std::isfinite(gb.gain)) continue;
-    out.maps[i].alpha = 1.0 / gb.gain;
-    out.maps[i].mid = (guesses[i].mean - gb.bias) / gb.gain;
-  }
-  return out;
-}
-
-Candidate flipped(const Candidate& c, const std::vector<int>& move) {
-  Candidate out = c;
-  for (int i : move) out.maps[i].alpha = -out.maps[i].alpha;
-  return out;
-}
-
-bool touchesFixed(const std::vector<PotGuess>& guesses, const std::vector<int>& move) {
-  return std::any_of(move.begin(), move.end(), [&](int i) { return guesses[i].fixed; });
-}
-
-Candidate rescaled(const Candidate& c, int i, double s) {
-  Candidate out = c;
-  out.maps[i].alpha *= s;
-  return out;
-}
-
-std::vector<std::vector<bool>> mirrorPatterns(const RobotModel& robot,
-                                              const std::vector<PotGuess>& guesses) {
-  KinematicsWorkspace kin(robot);
-  forwardKinematics(robot, neutralPose(robot), &kin);
-  std::vector<std::vector<bool>> patterns(4, std::vector<bool>(guesses.size(), true));
-  for (size_t i = 0; i < guesses.size(); ++i) {
-    const Eigen::Vector3d u = kin.joint_axis[robot.qJoints()[guesses[i].column]].normalized();
-    for (int a = 0; a < 3; ++a) patterns[1 + a][i] = std::abs(u[a]) < 0.7;
-  }
-  return patterns;
-}
-
-// Two wrong signs in a row (e.g. a wrist's pitch and roll) can each look
-// right alone, since flipping either one by itself moves the markers
-// farther: hence the pairs.
-std::vector<std::vector<int>> signMoves(const RobotModel& robot,
-                                        const std::vector<PotGuess>& guesses) {
-  std::vector<std::vector<int>> moves;
-  std::vector<int> guess_of_q(robot.dof(), -1);
-  for (size_t i = 0; i < guesses.size(); ++i) guess_of_q[guesses[i].column] = static_cast<int>(i);
-  for (size_t i = 0; i < guesses.size(); ++i) moves.push_back({static_cast<int>(i)});
-  for (size_t i = 0; i < guesses.size(); ++i) {
-    const int movable = robot.qJoints()[guesses[i].column];
-    const std::vector<int>& chain =
-        robot.supportingJoints(robot.movableJoints()[movable].child_link);
-    for (int k = static_cast<int>(chain.size()) - 2; k >= 0; --k) {
-      const MovableJoint& above = robot.movableJoints()[chain[k]];
-      if (above.is_mimic || guess_of_q[above.q_index] < 0) continue;
-      moves.push_back({guess_of_q[above.q_index], static_cast<int>(i)});
-      break;
-    }
-  }
-  return moves;
-}
-
-// p = g q + b = (-g) (2c - q) + (b + 2 g c).
-void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
-  const double c = q->col(g.column).mean();
-  q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
-  GainBias& gb = theta->joint_sensor[g.sensor];
-  gb.bias += 2.0 * gb.gain * c;
-  gb.gain = -gb.gain;
-}
 
 // Misfit: a median residual over the frames more than twice what Gaussian
 // noise of the sensor's σ gives (a marker's Euclidean distance: 1.54 σ; a
@@ -364,10 +214,9 @@ void WideBasin::adoptPotMaps(const Candidate& c, Estimate* est) const {
   applyCandidate(guesses_, c, obs_, &est->state.q);
   for (size_t i = 0; i < guesses_.size(); ++i) {
     const PotGuess& g = guesses_[i];
-    if (g.fixed) continue;
     GainBias& gb = est->theta.joint_sensor[g.sensor];
-    gb.gain = 1.0 / c.maps[i].alpha;
-    gb.bias = g.mean - c.maps[i].mid / c.maps[i].alpha;
+    if (!g.fixed) gb.gain = 1.0 / c.maps[i].alpha;
+    if (!g.bias_held) gb.bias = g.pivot - c.maps[i].mid / c.maps[i].alpha;
   }
 }
 

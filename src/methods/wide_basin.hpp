@@ -32,7 +32,7 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
                                          SensorParameters theta, QState* state,
                                          bool coupled_steps);
 
-// A map from a pot's reading to its joint's angle: q = alpha (p - mean) + mid.
+// A map from a pot's reading to its joint's angle: q = alpha (p - pivot) + mid.
 struct PotMap {
   double alpha = 0, mid = 0;
 };
@@ -41,17 +41,21 @@ struct PotMap {
 struct PotGuess {
   int sensor = -1;     // joint sensor index
   int column = -1;     // q index
-  double mean = 0;     // mean reading
-  bool fixed = false;  // known calibration: the exact inverse, never changed
-  PotMap map;          // the guess (below)
+  double pivot = 0;         // the reading the map turns about: the mean reading,
+                            // or the held bias (q = alpha (p - bias), mid 0)
+  bool fixed = false;       // the gain is held: alpha is its exact inverse, never
+                            // swept (with the bias held too, the whole map)
+  bool bias_held = false;   // the bias is held: adopting a map keeps it
+  PotMap map;               // the guess (below)
 };
 
 // The joint angle a one-joint sensor implies if the log spans 80% of the
 // joint's range: q = alpha (p - mean p) + mid. Such a guess has the right
 // time course; alpha's sign and scale are unknown, and greedy sweeps pick
-// each by how well the markers then fit. One guess per joint (the first of
-// its sensors), none for mimic joints or sensors with fewer than two
-// readings.
+// each by how well the markers then fit. A held gain makes alpha known
+// (1/gain), a held bias the map q = alpha (p - bias), both the exact
+// inverse. One guess per joint (the first of its sensors), none for mimic
+// joints or sensors with fewer than two readings.
 std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& sensors,
                                      const SensorParameters& theta, const Observations& obs);
 
@@ -96,8 +100,9 @@ std::vector<std::vector<bool>> mirrorPatterns(const RobotModel& robot,
 std::vector<std::vector<int>> signMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses);
 
-// Mirrors joint angle column `g.column` about its mean and flips the sign
-// of its pot's map so that the pot's predictions stay the same.
+// Mirrors joint angle column `g.column` about its mean (about 0 where the
+// bias is held) and flips the sign of its pot's map so that the pot's
+// predictions stay the same.
 void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q);
 // Whether some marker or pot fits clearly worse than its noise: its median
 // residual over the frames of obs more than twice what Gaussian noise of

@@ -7,24 +7,30 @@
 namespace stac {
 
 ThetaSpace::ThetaSpace(const SensorSet& sensors) : sensors_(&sensors) {
-  const bool frame_free = !sensors.markers.empty() && !sensors.mocap_frame_fixed;
+  // Without markers nothing sees the mocap frame: it is never free.
+  const bool markers = !sensors.markers.empty();
+  const FixedFrame& frame = sensors.mocap_frame_fixed;
   auto add = [&](const std::string& name, bool free) {
     names_.push_back(name);
     free_.push_back(free);
   };
   for (const char* axis : {"x", "y", "z"})
-    add(std::string("mocap.frame.rotation.") + axis, frame_free);
+    add(std::string("mocap.frame.rotation.") + axis, markers && !frame.rotation);
   for (const char* axis : {"x", "y", "z"})
-    add(std::string("mocap.frame.translation.") + axis, frame_free);
+    add(std::string("mocap.frame.translation.") + axis, markers && !frame.translation);
   for (const MarkerConfig& m : sensors.markers)
     for (const char* axis : {"x", "y", "z"})
       add("markers." + m.name + ".position." + axis, !m.fixed);
+  auto gainBias = [&](const std::string& prefix, const FixedGainBias& fixed) {
+    add(prefix + ".gain", !fixed.gain);
+    add(prefix + ".bias", !fixed.bias);
+  };
   joint_offset_ = static_cast<int>(names_.size());
   for (const JointSensorConfig& s : sensors.joint_sensors)
-    for (const char* p : {"gain", "bias"}) add("joint_sensors." + s.name + "." + p, !s.fixed);
+    gainBias("joint_sensors." + s.name, s.fixed);
   tendon_offset_ = static_cast<int>(names_.size());
   for (const TendonSensorConfig& s : sensors.tendon_sensors)
-    for (const char* p : {"gain", "bias"}) add("tendon_sensors." + s.name + "." + p, !s.fixed);
+    gainBias("tendon_sensors." + s.name, s.fixed);
   size_ = static_cast<int>(names_.size());
   free_position_.assign(size_, -1);
   for (int i = 0; i < size_; ++i)

@@ -44,6 +44,49 @@ LineFit fitGainBias(const double* x, const double* p, const double* w, int n,
   return fit;
 }
 
+LineFit fitGainBias(const double* x, const double* p, const double* w, int n,
+                    const GainBias& previous, const FixedGainBias& fixed) {
+  if (!fixed.any()) return fitGainBias(x, p, w, n, previous);
+  LineFit fit;
+  fit.value = previous;
+  if (fixed.all()) return fit;
+  double sw = 0, sxx = 0, sxr = 0, sr = 0;  // r: the reading less the held part
+  for (int i = 0; i < n; ++i) {
+    if (std::isnan(p[i]) || std::isnan(x[i])) continue;
+    const double wi = w ? w[i] : 1.0;
+    sw += wi;
+    sxx += wi * x[i] * x[i];
+    sxr += wi * x[i] * (p[i] - previous.bias);
+    sr += wi * (p[i] - previous.gain * x[i]);
+  }
+  fit.any_data = sw > 0;
+  if (fixed.gain) {
+    if (fit.any_data) fit.value.bias = sr / sw;
+    return fit;  // the gain is known, not unidentifiable
+  }
+  // Bias held: x never away from 0 leaves the gain undetermined.
+  fit.gain_identifiable = fit.any_data && sxx > 1e-18 * sw;
+  if (fit.gain_identifiable) fit.value.gain = sxr / sxx;
+  return fit;
+}
+
+namespace {
+
+// The proper rotation R maximising tr(R C) (Kabsch), or nullopt when C does
+// not determine it (rank below 2: the points are collinear or coincident,
+// and rotation about their line is free).
+std::optional<Eigen::Matrix3d> properRotation(const Eigen::Matrix3d& C) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(C, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector3d s = svd.singularValues();
+  if (!(s[1] > 1e-12 * std::max(s[0], 1e-300)) || !(s[0] > 0)) return std::nullopt;
+  const Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (V * U.transpose()).determinant() > 0 ? 1.0 : -1.0;  // proper rotation
+  return Eigen::Matrix3d(V * D * U.transpose());
+}
+
+}  // namespace
+
 std::optional<MocapFrame> procrustes(const std::vector<Eigen::Vector3d>& a,
                                      const std::vector<Eigen::Vector3d>& b,
                                      const std::vector<double>& w) {
@@ -61,17 +104,38 @@ std::optional<MocapFrame> procrustes(const std::vector<Eigen::Vector3d>& a,
   cb /= sw;
   Eigen::Matrix3d C = Eigen::Matrix3d::Zero();  // Σ w (a - ā)(b - b̄)^T
   for (size_t i = 0; i < n; ++i) C += w[i] * (a[i] - ca) * (b[i] - cb).transpose();
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(C, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Vector3d s = svd.singularValues();
-  // Collinear (or coincident) points: rotation about their line is free.
-  if (!(s[1] > 1e-12 * std::max(s[0], 1e-300)) || !(s[0] > 0)) return std::nullopt;
-  const Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (V * U.transpose()).determinant() > 0 ? 1.0 : -1.0;  // proper rotation
-  const Eigen::Matrix3d R = V * D * U.transpose();
+  const std::optional<Eigen::Matrix3d> R = properRotation(C);
+  if (!R) return std::nullopt;
   MocapFrame f;
-  f.rotation = Eigen::Quaterniond(R).normalized();
-  f.translation = cb - R * ca;
+  f.rotation = Eigen::Quaterniond(*R).normalized();
+  f.translation = cb - *R * ca;
+  return f;
+}
+
+std::optional<MocapFrame> procrustes(const std::vector<Eigen::Vector3d>& a,
+                                     const std::vector<Eigen::Vector3d>& b,
+                                     const std::vector<double>& w, const MocapFrame& frame,
+                                     const FixedFrame& fixed) {
+  if (fixed.all()) return frame;
+  if (!fixed.any()) return procrustes(a, b, w);
+  const size_t n = a.size();
+  if (b.size() != n || w.size() != n) return std::nullopt;
+  MocapFrame f = frame;
+  if (fixed.rotation) {
+    const Eigen::Matrix3d R = frame.rotation.toRotationMatrix();
+    double sw = 0;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < n; ++i) sw += w[i], sum += w[i] * (b[i] - R * a[i]);
+    if (!(sw > 0)) return std::nullopt;
+    f.translation = sum / sw;
+    return f;
+  }
+  if (n < 3) return std::nullopt;
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();  // Σ w a (b - t)^T, about the held t
+  for (size_t i = 0; i < n; ++i) C += w[i] * a[i] * (b[i] - frame.translation).transpose();
+  const std::optional<Eigen::Matrix3d> R = properRotation(C);
+  if (!R) return std::nullopt;
+  f.rotation = Eigen::Quaterniond(*R).normalized();
   return f;
 }
 
@@ -154,73 +218,101 @@ double markerGroupCost(const MeasurementModel& model, const NoiseModel& noise,
   return 0.5 * cost;
 }
 
-// Gauss-Newton (IRLS for a robust loss) on the mocap frame and the free
-// marker positions together, q fixed.
+// Where the marker group's free parameters sit in its Gauss-Newton system
+// (-1: held): the mocap rotation δ, the translation, each marker position.
+struct MarkerGroupLayout {
+  int rotation = -1, translation = -1;
+  std::vector<int> marker;
+  int size = 0;
+};
+
+MarkerGroupLayout markerGroupLayout(const SensorSet& sensors) {
+  MarkerGroupLayout l;
+  if (!sensors.mocap_frame_fixed.rotation) l.rotation = l.size, l.size += 3;
+  if (!sensors.mocap_frame_fixed.translation) l.translation = l.size, l.size += 3;
+  l.marker.assign(sensors.markers.size(), -1);
+  for (size_t m = 0; m < sensors.markers.size(); ++m)
+    if (!sensors.markers[m].fixed) l.marker[m] = l.size, l.size += 3;
+  return l;
+}
+
+// H = Σ w JᵀJ and g = Σ w Jᵀr of the marker group over the free parameters.
+void markerGroupNormalEquations(const MarkerGroupLayout& layout, const NoiseModel& noise,
+                                const RobustLoss& loss, const Observations& obs,
+                                const MarkerPoseCache& poses, const SensorParameters& theta,
+                                Eigen::MatrixXd* H, Eigen::VectorXd* g) {
+  const int M = poses.markers;
+  H->setZero(layout.size, layout.size);
+  g->setZero(layout.size);
+  const Eigen::Matrix3d R = theta.mocap.rotation.toRotationMatrix();
+  for (int t = 0; t < obs.num_frames; ++t) {
+    for (int m = 0; m < M; ++m) {
+      const double* x = obs.marker.row(t).data() + 3 * m;
+      if (std::isnan(x[0])) continue;
+      const size_t i = static_cast<size_t>(t) * M + m;
+      const double inv = 1.0 / noise.marker[m];
+      const Eigen::Vector3d xb =
+          poses.rotation[i] * theta.marker_position[m] + poses.translation[i];
+      const Eigen::Vector3d r =
+          (R * xb + theta.mocap.translation - Eigen::Vector3d(x[0], x[1], x[2])) * inv;
+      const double w = robustWeight(loss, r.squaredNorm());
+      Eigen::Matrix<double, 3, 9> J;
+      int idx[9], k = 0;
+      auto columns = [&](int offset, const Eigen::Matrix3d& block) {
+        J.block<3, 3>(0, k) = block;
+        for (int a = 0; a < 3; ++a) idx[k++] = offset + a;
+      };
+      if (layout.rotation >= 0)
+        columns(layout.rotation, inv * marker_sensor::rotationJacobian(R, xb));
+      if (layout.translation >= 0) columns(layout.translation, inv * Eigen::Matrix3d::Identity());
+      if (layout.marker[m] >= 0) columns(layout.marker[m], inv * (R * poses.rotation[i]));
+      for (int a = 0; a < k; ++a) {
+        (*g)[idx[a]] += w * J.col(a).dot(r);
+        for (int b = 0; b < k; ++b) (*H)(idx[a], idx[b]) += w * J.col(a).dot(J.col(b));
+      }
+    }
+  }
+}
+
+// θ moved by `step` over the marker group's free parameters.
+SensorParameters markerGroupStep(const MarkerGroupLayout& layout, const SensorParameters& theta,
+                                 const Eigen::VectorXd& step) {
+  SensorParameters out = theta;
+  if (layout.rotation >= 0) {
+    const Eigen::Vector3d d = step.segment<3>(layout.rotation);
+    const double angle = d.norm();
+    const Eigen::Quaterniond dq = angle > 0
+                                      ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, d / angle))
+                                      : Eigen::Quaterniond::Identity();
+    out.mocap.rotation = (dq * theta.mocap.rotation).normalized();
+  }
+  if (layout.translation >= 0) out.mocap.translation += step.segment<3>(layout.translation);
+  for (size_t m = 0; m < layout.marker.size(); ++m)
+    if (layout.marker[m] >= 0) out.marker_position[m] += step.segment<3>(layout.marker[m]);
+  return out;
+}
+
+// Gauss-Newton (IRLS for a robust loss) on the free parts of the mocap frame
+// and the free marker positions together, q fixed.
 void markerGroupGaussNewton(const MeasurementModel& model, const NoiseModel& noise,
                             const RobustLoss& loss, const Observations& obs,
                             const MarkerPoseCache& poses, int steps,
                             SensorParameters* theta) {
-  const SensorSet& sensors = model.sensors();
-  const int M = poses.markers;
-  const bool frame_free = !sensors.mocap_frame_fixed;
-  std::vector<int> offset(M, -1);
-  int n = frame_free ? 6 : 0;
-  for (int m = 0; m < M; ++m)
-    if (!sensors.markers[m].fixed) offset[m] = n, n += 3;
+  const MarkerGroupLayout layout = markerGroupLayout(model.sensors());
+  const int n = layout.size;
   if (n == 0) return;
   Eigen::MatrixXd H(n, n);
   Eigen::VectorXd g(n);
   double cost = markerGroupCost(model, noise, loss, obs, poses, *theta);
   for (int step = 0; step < steps; ++step) {
-    H.setZero();
-    g.setZero();
-    const Eigen::Matrix3d R = theta->mocap.rotation.toRotationMatrix();
-    for (int t = 0; t < obs.num_frames; ++t) {
-      for (int m = 0; m < M; ++m) {
-        const double* x = obs.marker.row(t).data() + 3 * m;
-        if (std::isnan(x[0])) continue;
-        const size_t i = static_cast<size_t>(t) * M + m;
-        const double inv = 1.0 / noise.marker[m];
-        const Eigen::Vector3d xb =
-            poses.rotation[i] * theta->marker_position[m] + poses.translation[i];
-        const Eigen::Vector3d r =
-            (R * xb + theta->mocap.translation - Eigen::Vector3d(x[0], x[1], x[2])) * inv;
-        const double w = robustWeight(loss, r.squaredNorm());
-        Eigen::Matrix<double, 3, 9> J;
-        int idx[9], k = 0;
-        if (frame_free) {
-          J.block<3, 3>(0, 0) = inv * marker_sensor::rotationJacobian(R, xb);
-          J.block<3, 3>(0, 3) = inv * Eigen::Matrix3d::Identity();
-          for (int a = 0; a < 6; ++a) idx[k++] = a;
-        }
-        if (offset[m] >= 0) {
-          J.block<3, 3>(0, k) = inv * (R * poses.rotation[i]);
-          for (int a = 0; a < 3; ++a) idx[k++] = offset[m] + a;
-        }
-        for (int a = 0; a < k; ++a) {
-          g[idx[a]] += w * J.col(a).dot(r);
-          for (int b = 0; b < k; ++b) H(idx[a], idx[b]) += w * J.col(a).dot(J.col(b));
-        }
-      }
-    }
+    markerGroupNormalEquations(layout, noise, loss, obs, poses, *theta, &H, &g);
     // Tiny damping: directions the data cannot see (a gauge) stay put.
     const double eps = 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
     for (int a = 0; a < n; ++a) H(a, a) += 1e-9 * H(a, a) + eps;
     const Eigen::VectorXd delta = H.ldlt().solve(-g);
     if (!delta.allFinite()) return;
     for (double alpha = 1.0; alpha > 1e-3; alpha *= 0.5) {
-      SensorParameters trial = *theta;
-      if (frame_free) {
-        const Eigen::Vector3d d = alpha * delta.head<3>();
-        const double angle = d.norm();
-        const Eigen::Quaterniond dq =
-            angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, d / angle))
-                      : Eigen::Quaterniond::Identity();
-        trial.mocap.rotation = (dq * theta->mocap.rotation).normalized();
-        trial.mocap.translation += alpha * delta.segment<3>(3);
-      }
-      for (int m = 0; m < M; ++m)
-        if (offset[m] >= 0) trial.marker_position[m] += alpha * delta.segment<3>(offset[m]);
+      const SensorParameters trial = markerGroupStep(layout, *theta, alpha * delta);
       const double c = markerGroupCost(model, noise, loss, obs, poses, trial);
       if (c <= cost) {
         const bool done = cost - c <= 1e-14 * cost;
@@ -234,12 +326,12 @@ void markerGroupGaussNewton(const MeasurementModel& model, const NoiseModel& noi
   }
 }
 
-
 // Eq. 18-20: the (robustly weighted) line p ≈ gain * x + bias of one scalar
-// sensor, x its joint angle or tendon length per frame. Returns false where
-// x never varied (the gain kept).
+// sensor, x its joint angle or tendon length per frame, the parts in `fixed`
+// held. Returns false where x never varied (the gain kept).
 bool fitScalarSensor(const std::vector<double>& x, const double* p, Eigen::Index stride,
-                     double sigma, const RobustLoss& loss, GainBias* gb) {
+                     double sigma, const RobustLoss& loss, const FixedGainBias& fixed,
+                     GainBias* gb) {
   const int T = static_cast<int>(x.size());
   std::vector<double> pv(T), w(T);
   for (int t = 0; t < T; ++t) {
@@ -247,7 +339,7 @@ bool fitScalarSensor(const std::vector<double>& x, const double* p, Eigen::Index
     const double r = (gb->gain * x[t] + gb->bias - pv[t]) / sigma;
     w[t] = std::isnan(pv[t]) ? 0.0 : robustWeight(loss, r * r);
   }
-  const LineFit fit = fitGainBias(x.data(), pv.data(), w.data(), T, *gb);
+  const LineFit fit = fitGainBias(x.data(), pv.data(), w.data(), T, *gb, fixed);
   *gb = fit.value;
   return fit.gain_identifiable;
 }
@@ -271,11 +363,11 @@ ThetaPhaseReport thetaPhase(const MeasurementModel& model, const NoiseModel& noi
     std::vector<double> x(T);
     for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
       const JointSensorConfig& sc = sensors.joint_sensors[s];
-      if (sc.fixed) continue;
+      if (sc.fixed.all()) continue;
       const MovableJoint& mj = robot.movableJoints()[sc.joint];
       for (int t = 0; t < T; ++t) x[t] = mj.multiplier * state.q(t, mj.q_index) + mj.offset;
       if (!fitScalarSensor(x, obs.joint.data() + s, obs.joint.cols(), noise.joint[s], loss,
-                           &theta->joint_sensor[s]))
+                           sc.fixed, &theta->joint_sensor[s]))
         report.degenerate.push_back("joint_sensors." + sc.name + ".gain");
     }
   }
@@ -298,10 +390,10 @@ ThetaPhaseReport thetaPhase(const MeasurementModel& model, const NoiseModel& noi
     std::vector<double> x(T);
     for (int s = 0; s < S; ++s) {
       const TendonSensorConfig& sc = sensors.tendon_sensors[s];
-      if (sc.fixed) continue;
+      if (sc.fixed.all()) continue;
       for (int t = 0; t < T; ++t) x[t] = L(t, s);
       if (!fitScalarSensor(x, obs.tendon.data() + s, obs.tendon.cols(), noise.tendon[s], loss,
-                           &theta->tendon_sensor[s]))
+                           sc.fixed, &theta->tendon_sensor[s]))
         report.degenerate.push_back("tendon_sensors." + sc.name + ".gain");
     }
   }
@@ -323,7 +415,7 @@ void initialiseMarkerGroup(const MeasurementModel& model, const Observations& ob
   if (M == 0) return;
   const MarkerPoseCache poses = cacheMarkerPoses(model, state.q, threads, workspaces);
   for (int round = 0; round < rounds; ++round) {
-    if (!sensors.mocap_frame_fixed) {
+    if (!sensors.mocap_frame_fixed.all()) {
       // Eq. 13-16 over every (frame, marker) reading.
       std::vector<Eigen::Vector3d> a, b;
       std::vector<double> w;
@@ -336,7 +428,8 @@ void initialiseMarkerGroup(const MeasurementModel& model, const Observations& ob
           b.emplace_back(x[0], x[1], x[2]);
           w.push_back(1.0 / (sensors.markers[m].sigma * sensors.markers[m].sigma));
         }
-      if (auto f = procrustes(a, b, w)) theta->mocap = *f;
+      if (auto f = procrustes(a, b, w, theta->mocap, sensors.mocap_frame_fixed))
+        theta->mocap = *f;
     }
     for (int m = 0; m < M; ++m) {
       if (sensors.markers[m].fixed) continue;

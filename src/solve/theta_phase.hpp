@@ -34,12 +34,25 @@ struct LineFit {
 // gain (and, without data, its bias).
 LineFit fitGainBias(const double* x, const double* p, const double* w, int n,
                     const GainBias& previous);
+// The same with the parts in `fixed` held at `previous`'s values: with the
+// gain held, the bias is the weighted mean of p - gain * x; with the bias
+// held, the gain is Σ w x (p - bias) / Σ w x² (kept where x was always 0).
+LineFit fitGainBias(const double* x, const double* p, const double* w, int n,
+                    const GainBias& previous, const FixedGainBias& fixed);
 
 // (R, t) minimising Σ w_i |R a_i + t - b_i|² with det R = +1, or nullopt when
 // the points do not determine a rotation (fewer than 3 or all collinear).
 std::optional<MocapFrame> procrustes(const std::vector<Eigen::Vector3d>& a,
                                      const std::vector<Eigen::Vector3d>& b,
                                      const std::vector<double>& w);
+// Procrustes with a part of the frame held at `frame`'s value: with the
+// rotation held, t is the weighted mean of b - R a; with the translation
+// held, R is the proper rotation minimising Σ w_i |R a_i - (b_i - t)|² (nullopt
+// as above). Both held: `frame` itself.
+std::optional<MocapFrame> procrustes(const std::vector<Eigen::Vector3d>& a,
+                                     const std::vector<Eigen::Vector3d>& b,
+                                     const std::vector<double>& w, const MocapFrame& frame,
+                                     const FixedFrame& fixed);
 
 // Link poses (in the base frame) of every marker in every frame, cached once
 // per θ-phase: T x markers.

@@ -1,0 +1,166 @@
+// The wide-basin initialisation's pot guesses and candidate maps (see
+// wide_basin.hpp): each one-joint sensor's readings mapped onto its joint,
+// and the transforms the candidate search builds new maps with.
+#include "methods/wide_basin.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "stac/calibrate.hpp"
+#include "stac/kinematics.hpp"
+
+namespace stac {
+
+std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& sensors,
+                                     const SensorParameters& theta, const Observations& obs) {
+  std::vector<PotGuess> out;
+  std::vector<bool> covered(robot.dof(), false);
+  for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
+    const JointSensorConfig& sc = sensors.joint_sensors[s];
+    const MovableJoint& mj = robot.movableJoints()[sc.joint];
+    if (mj.is_mimic || covered[mj.q_index]) continue;
+    double lo = robot.lowerLimits()[mj.q_index], hi = robot.upperLimits()[mj.q_index];
+    if (!std::isfinite(lo) || !std::isfinite(hi)) lo = -M_PI, hi = M_PI;
+    double pmin = INFINITY, pmax = -INFINITY, sum = 0;
+    int n = 0;
+    for (int t = 0; t < obs.num_frames; ++t) {
+      const double p = obs.joint(t, s);
+      if (std::isnan(p)) continue;
+      pmin = std::min(pmin, p), pmax = std::max(pmax, p), sum += p, ++n;
+    }
+    if (n < 2) continue;
+    const GainBias& gb = theta.joint_sensor[s];
+    PotGuess g;
+    g.sensor = static_cast<int>(s);
+    g.column = mj.q_index;
+    g.fixed = sc.fixed.gain;
+    g.bias_held = sc.fixed.bias;
+    // A held bias alone: q = alpha (p - bias), the sign and scale unknown.
+    g.pivot = sc.fixed.bias && !sc.fixed.gain ? gb.bias : sum / n;
+    g.map.mid = sc.fixed.bias && !sc.fixed.gain ? 0.0 : 0.5 * (lo + hi);
+    if (sc.fixed.gain) {
+      // A known scale: the exact inverse gain; with the bias held too, the
+      // exact inverse (else the offset is guessed like any other).
+      if (gb.gain == 0) continue;
+      g.map.alpha = 1.0 / gb.gain;
+      if (sc.fixed.bias) g.map.mid = (g.pivot - gb.bias) / gb.gain;
+    } else {
+      if (!(pmax > pmin)) continue;
+      g.map.alpha = 0.8 * (hi - lo) / (pmax - pmin);
+    }
+    covered[mj.q_index] = true;
+    out.push_back(g);
+  }
+  return out;
+}
+
+Candidate guessedMaps(const std::vector<PotGuess>& guesses) {
+  Candidate c;
+  for (const PotGuess& g : guesses) c.maps.push_back(g.map);
+  return c;
+}
+
+void applyCandidate(const std::vector<PotGuess>& guesses, const Candidate& candidate,
+                    const Observations& obs, RowMatrix* q) {
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const PotGuess& g = guesses[i];
+    const PotMap& map = candidate.maps[i];
+    double last = map.mid;
+    for (int t = 0; t < obs.num_frames; ++t) {
+      const double p = obs.joint(t, g.sensor);
+      if (!std::isnan(p)) last = map.alpha * (p - g.pivot) + map.mid;
+      (*q)(t, g.column) = last;
+    }
+  }
+}
+
+Candidate withSigns(const Candidate& c, const std::vector<PotGuess>& guesses,
+                    const std::vector<bool>& flip) {
+  Candidate out = c;
+  for (size_t i = 0; i < guesses.size(); ++i)
+    if (flip[i] && !guesses[i].fixed) out.maps[i].alpha = -out.maps[i].alpha;
+  return out;
+}
+
+Candidate scaled(const Candidate& c, const std::vector<PotGuess>& guesses, double s) {
+  Candidate out = c;
+  for (size_t i = 0; i < guesses.size(); ++i)
+    if (!guesses[i].fixed) out.maps[i].alpha *= s;
+  return out;
+}
+
+Candidate seededMaps(const Candidate& c, const std::vector<PotGuess>& guesses,
+                     const SensorParameters& seed) {
+  // A fixed guess's map is this inverse already.
+  Candidate out = c;
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const GainBias& gb = seed.joint_sensor[guesses[i].sensor];
+    if (gb.gain == 0 || !std::isfinite(gb.gain)) continue;
+    out.maps[i].alpha = 1.0 / gb.gain;
+    out.maps[i].mid = (guesses[i].pivot - gb.bias) / gb.gain;
+  }
+  return out;
+}
+
+Candidate flipped(const Candidate& c, const std::vector<int>& move) {
+  Candidate out = c;
+  for (int i : move) out.maps[i].alpha = -out.maps[i].alpha;
+  return out;
+}
+
+bool touchesFixed(const std::vector<PotGuess>& guesses, const std::vector<int>& move) {
+  return std::any_of(move.begin(), move.end(), [&](int i) { return guesses[i].fixed; });
+}
+
+Candidate rescaled(const Candidate& c, int i, double s) {
+  Candidate out = c;
+  out.maps[i].alpha *= s;
+  return out;
+}
+
+std::vector<std::vector<bool>> mirrorPatterns(const RobotModel& robot,
+                                              const std::vector<PotGuess>& guesses) {
+  KinematicsWorkspace kin(robot);
+  forwardKinematics(robot, neutralPose(robot), &kin);
+  std::vector<std::vector<bool>> patterns(4, std::vector<bool>(guesses.size(), true));
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const Eigen::Vector3d u = kin.joint_axis[robot.qJoints()[guesses[i].column]].normalized();
+    for (int a = 0; a < 3; ++a) patterns[1 + a][i] = std::abs(u[a]) < 0.7;
+  }
+  return patterns;
+}
+
+// Two wrong signs in a row (e.g. a wrist's pitch and roll) can each look
+// right alone, since flipping either one by itself moves the markers
+// farther: hence the pairs.
+std::vector<std::vector<int>> signMoves(const RobotModel& robot,
+                                        const std::vector<PotGuess>& guesses) {
+  std::vector<std::vector<int>> moves;
+  std::vector<int> guess_of_q(robot.dof(), -1);
+  for (size_t i = 0; i < guesses.size(); ++i) guess_of_q[guesses[i].column] = static_cast<int>(i);
+  for (size_t i = 0; i < guesses.size(); ++i) moves.push_back({static_cast<int>(i)});
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const int movable = robot.qJoints()[guesses[i].column];
+    const std::vector<int>& chain =
+        robot.supportingJoints(robot.movableJoints()[movable].child_link);
+    for (int k = static_cast<int>(chain.size()) - 2; k >= 0; --k) {
+      const MovableJoint& above = robot.movableJoints()[chain[k]];
+      if (above.is_mimic || guess_of_q[above.q_index] < 0) continue;
+      moves.push_back({guess_of_q[above.q_index], static_cast<int>(i)});
+      break;
+    }
+  }
+  return moves;
+}
+
+// p = g q + b = (-g) (2c - q) + (b + 2 g c); about c = 0 where the bias is
+// held, so that it stays.
+void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+  const double c = g.bias_held ? 0.0 : q->col(g.column).mean();
+  q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
+  GainBias& gb = theta->joint_sensor[g.sensor];
+  gb.bias += 2.0 * gb.gain * c;
+  gb.gain = -gb.gain;
+}
+
+}  // namespace stac
