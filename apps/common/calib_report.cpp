@@ -21,7 +21,6 @@ std::string num(double v, const char* f = "%.4g") {
   return buf;
 }
 
-const char* kUnit[kNumSensorGroups] = {"m", "raw", "raw"};
 
 // Tables and plots are laid out by this stylesheet only (no '<' or '&' in
 // it: the document must stay well-formed XML).
@@ -65,7 +64,7 @@ void summarySection(std::ostringstream& o, const RobotModel& robot, const Sensor
     << th("σ (final)") << "</tr>";
   for (int g = 0; g < kNumSensorGroups; ++g) {
     if (!s.group_present[g]) continue;
-    o << "<tr>" << td(groupName(static_cast<SensorGroup>(g)), true) << td(kUnit[g])
+    o << "<tr>" << td(groupName(static_cast<SensorGroup>(g)), true) << td(groupUnit(static_cast<SensorGroup>(g)))
       << td(num(s.before_rms[g])) << td(num(s.after_rms[g])) << td(num(s.group_sigma[g]))
       << "</tr>";
   }
@@ -82,7 +81,7 @@ void convergenceSection(std::ostringstream& o, const std::vector<IterationReport
   svg::Series cost{"cost", {}, {}};
   svg::Series rms[kNumSensorGroups];
   for (int g = 0; g < kNumSensorGroups; ++g)
-    rms[g].name = std::string(groupName(static_cast<SensorGroup>(g))) + " (" + kUnit[g] + ")";
+    rms[g].name = std::string(groupName(static_cast<SensorGroup>(g))) + " (" + groupUnit(static_cast<SensorGroup>(g)) + ")";
   bool present[kNumSensorGroups] = {false, false, false};
   for (size_t i = 0; i < history.size(); ++i) {
     const IterationReport& r = history[i];

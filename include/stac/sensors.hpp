@@ -111,5 +111,8 @@ struct SensorParameters {
 enum class SensorGroup { kMarker = 0, kJoint = 1, kTendon = 2 };
 constexpr int kNumSensorGroups = 3;
 const char* groupName(SensorGroup g);
+// The unit of a group's residuals in reports: "m" (markers, Euclidean), "raw"
+// (a sensor's own unit).
+const char* groupUnit(SensorGroup g);
 
 }  // namespace stac

@@ -257,7 +257,6 @@ std::string jsonNumber(double v) { return std::isfinite(v) ? formatNumber(v) : "
 
 std::string jsonString(const std::string& s) { return doubleQuoted(s, QuoteStyle::kJson); }
 
-const char* kUnit[kNumSensorGroups] = {"m", "raw", "raw"};
 
 }  // namespace
 
@@ -274,7 +273,7 @@ std::string evaluationReport(const EvaluationResult& r, const std::vector<Parame
     const GroupPredictionError& ge = r.group[g];
     if (!ge.predicted) continue;
     std::snprintf(buf, sizeof buf, " %16s", (std::string(groupName(static_cast<SensorGroup>(g))) +
-                                              " (" + kUnit[g] + ")").c_str());
+                                              " (" + groupUnit(static_cast<SensorGroup>(g)) + ")").c_str());
     head += buf;
     const std::string v = ge.used ? "(" + number(ge.mae) + ")" : number(ge.mae);
     std::snprintf(buf, sizeof buf, " %16s", v.c_str());
@@ -387,7 +386,7 @@ std::string crossSensorTableText(const std::vector<CrossSensorRow>& rows) {
   for (int g = 0; g < kNumSensorGroups; ++g) {
     if (!first.group[g].predicted) continue;
     std::snprintf(buf, sizeof buf, " %16s",
-                  (std::string(groupName(static_cast<SensorGroup>(g))) + " (" + kUnit[g] + ")").c_str());
+                  (std::string(groupName(static_cast<SensorGroup>(g))) + " (" + groupUnit(static_cast<SensorGroup>(g)) + ")").c_str());
     o << buf;
   }
   o << "\n";

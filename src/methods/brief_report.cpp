@@ -10,7 +10,6 @@
 namespace stac {
 namespace {
 
-const char* kGroupUnit[kNumSensorGroups] = {"m", "raw", "raw"};
 
 struct ParameterChange {
   std::string name;
@@ -94,7 +93,7 @@ std::string briefReport(const RobotModel& robot, const SensorParameters& seed,
   for (int g = 0; g < kNumSensorGroups; ++g) {
     if (!s.group_present[g]) continue;
     std::snprintf(buf, sizeof buf, "  %-8s (%-3s)       %12.6g %12.6g %12.6g\n",
-                  groupName(static_cast<SensorGroup>(g)), kGroupUnit[g], s.before_rms[g],
+                  groupName(static_cast<SensorGroup>(g)), groupUnit(static_cast<SensorGroup>(g)), s.before_rms[g],
                   s.after_rms[g], s.group_sigma[g]);
     o << buf;
   }

@@ -304,15 +304,10 @@ std::vector<int> usableFrames(const Observations& obs, const JointSources& sourc
 // Solves, with variance adaptation (paper §III-E) between solves: one σ
 // scale per group of fitted readings. With one group only, σ does not move
 // the optimum, so one solve suffices. Returns the iterations.
-int solveAdapting(const MethodInput& in, const JointSources& sources, Regression* reg,
-                  ClassicalParameters* p, GroupScales* scales, NoiseModel* noise,
-                  bool* converged) {
+int solveAdapting(const MethodInput& in, const JointSources& sources, int groups,
+                  Regression* reg, ClassicalParameters* p, GroupScales* scales,
+                  NoiseModel* noise, bool* converged) {
   const NoiseModel& seed_noise = in.problem.seed_noise;
-  int groups = 0;
-  {
-    const Pass first = reg->pass(*p, *noise, seed_noise, false);
-    for (int g = 0; g < kNumSensorGroups; ++g) groups += first.count[g] > 0;
-  }
   const int n_free = static_cast<int>(reg->freeIndex().size());
   int iterations = 0;
   for (int round = 0; round < 5; ++round) {
@@ -409,8 +404,12 @@ Outcome runClassical(const MethodInput& in) {
   Regression reg(model, sources, used, problem.loss, problem.threads);
   GroupScales scales;
   NoiseModel noise = problem.seed_noise;
-  out.initial_cost = reg.pass(p, noise, problem.seed_noise, false).cost;
-  out.iterations = solveAdapting(in, sources, &reg, &p, &scales, &noise, &out.converged);
+  const Pass first = reg.pass(p, noise, problem.seed_noise, false);
+  out.initial_cost = first.cost;
+  int groups = 0;  // groups with fitted readings
+  for (int g = 0; g < kNumSensorGroups; ++g) groups += first.count[g] > 0;
+  out.iterations =
+      solveAdapting(in, sources, groups, &reg, &p, &scales, &noise, &out.converged);
   // Statistics at the final σ.
   const Pass fin = reg.pass(p, noise, problem.seed_noise, true);
   out.final_cost = fin.cost;

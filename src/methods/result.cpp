@@ -65,9 +65,8 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   std::copy(out.before_rms, out.before_rms + kNumSensorGroups, summary.before_rms);
   std::copy(out.after_rms, out.after_rms + kNumSensorGroups, summary.after_rms);
   summary.unidentifiable = std::move(out.uncertainty.unidentifiable);
-  Workspaces ws = makeWorkspaces(model, problem.threads);
   summary.downweighted = downweightedReadings(problem.on(fitted), result.theta, out.noise, q,
-                                              in.options.max_downweighted, &ws);
+                                              in.options.max_downweighted);
   const std::vector<bool>* defining = out.defining_joint.empty() ? nullptr : &out.defining_joint;
   CalibrationSummary seed;
   summariseGroupNoise(model.sensors(), problem.seed_noise, &seed, defining);

@@ -9,7 +9,6 @@
 namespace stac {
 namespace {
 
-const char* kUnit[kNumSensorGroups] = {"m", "raw", "raw"};
 constexpr double kRows[kNumSensorGroups] = {3.0, 1.0, 1.0};  // residual rows per reading
 
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
@@ -31,7 +30,7 @@ void checkGroups(const MethodInput& in, const CalibrationSummary& s,
       why->push_back(std::string("the ") + groupName(static_cast<SensorGroup>(g)) +
                      format(" readings fit %.3g times worse than their seed sigma (%.3g -> %.3g ",
                             ratio, s.seed_group_sigma[g], fit) +
-                     kUnit[g] +
+                     groupUnit(static_cast<SensorGroup>(g)) +
                      "): a wrong minimum, a sigma in the wrong unit, or readings the model "
                      "does not explain");
   }

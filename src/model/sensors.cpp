@@ -11,4 +11,6 @@ const char* groupName(SensorGroup g) {
   return "?";
 }
 
+const char* groupUnit(SensorGroup g) { return g == SensorGroup::kMarker ? "m" : "raw"; }
+
 }  // namespace stac

@@ -88,16 +88,17 @@ std::string sensorName(const SensorSet& s, SensorGroup g, int i) {
 std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
                                                       const SensorParameters& theta,
                                                       const NoiseModel& noise, const RowMatrix& q,
-                                                      int max_count, Workspaces* ws) {
+                                                      int max_count) {
   std::vector<DownweightedReading> all;
   if (!problem.loss.enabled() || max_count <= 0) return all;
   const MeasurementModel& model = problem.model;
+  Workspaces ws = makeWorkspaces(model, problem.threads);
   const int T = problem.obs.num_frames;
   std::vector<std::vector<DownweightedReading>> per_chunk(numChunks(T));
   FrameOptions eo;
   eo.jacobians = false;
   parallelFor(numChunks(T), problem.threads, [&](int chunk, int tid) {
-    FrameWorkspace& w = (*ws)[tid];
+    FrameWorkspace& w = ws[tid];
     Eigen::VectorXd qt(model.dof());
     const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
     for (int t = chunk * kFramesPerChunk; t < end; ++t) {

@@ -39,7 +39,7 @@ PassStats costPass(const Problem& problem, const SensorParameters& theta, const 
 std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
                                                       const SensorParameters& theta,
                                                       const NoiseModel& noise, const RowMatrix& q,
-                                                      int max_count, Workspaces* ws);
+                                                      int max_count);
 
 // A progress report from a pass.
 using Clock = std::chrono::steady_clock;
