@@ -81,6 +81,27 @@ TEST_F(Tiago, RawExportCalibratesWithTheBundledSensorsFile) {
   EXPECT_NE(yaml.find("unidentifiable: []"), std::string::npos) << yaml;
 }
 
+TEST_F(Tiago, AHalfFixedSensorsFreeBiasIsReportedWhenItIsAGauge) {
+  // arm_1's gain held, its bias free: the bias trades off with the mocap
+  // rotation about arm_1's vertical axis, and the report says so.
+  std::string seed = test::readFile(test::dataPath("tiago_qualisys_sensors.yaml"));
+  const std::string arm1 = "joint: arm_1_joint, gain: 1.0, bias: 0.0, sigma: 0.001, fixed: true";
+  ASSERT_NE(seed.find(arm1), std::string::npos);
+  seed.replace(seed.find(arm1) + arm1.size() - 4, 4, "[gain]");
+  test::writeFile(dir_.file("half.yaml"), seed);
+  const auto r = calib(realdata("qualisys_2021-11-30_static_postures.csv"),
+                       "--sensors " + dir_.file("half.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("bias of arm_1_joint trades off with the mocap rotation"),
+            std::string::npos)
+      << r.out;
+  const std::string yaml = test::readFile(dir_.file("cal.yaml"));
+  EXPECT_NE(yaml.find("joint_sensors.arm_1_joint.bias"), std::string::npos) << yaml;
+  EXPECT_EQ(yaml.find("joint_sensors.arm_1_joint.gain"), std::string::npos) << yaml;
+  const SensorsFile cal = calibration();
+  EXPECT_EQ(cal.theta.joint_sensor[1].gain, 1.0);
+}
+
 TEST_F(Tiago, AtColumnsCalibrateWithNoSensorsFile) {
   // The header renamed: point 1 of the hand body is p1@wrist_ft_tool_link.
   // (Points 2-4 are virtual points of the same tracked body, exact to 1 µm:
