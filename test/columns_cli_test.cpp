@@ -153,11 +153,13 @@ TEST_F(ColumnsCli, BookkeepingColumnNotIgnored) {
 
 TEST_F(ColumnsCli, AtColumnOnAnUnknownLink) {
   test::writeFile(file("at.csv"),
-                  "j1,j2,j3,j4,p@l4.x,p@l4.y,p@l4.z,q@l_4.x,q@l_4.y,q@l_4.z\n0,0,0,0,0,0,0,0,0,0\n");
+                  "j1,j2,j3,j4,p@l4.x,p@l4.y,p@l4.z,q@l_4.x,q@l_4.y,q@l_4.z\n"
+                  "0,0,0,0,0,0,0,0,0,0\n");
   const auto r = test::runCommand(test::appPath("stac_calib") + " --urdf " + file("arm.urdf") +
                                   " --log " + file("at.csv") + " --output " + file("o.yaml"));
   expectExit2(r, "stac_calib: error: " + file("at.csv") + ":1: 3 column(s) name no movable joint");
-  EXPECT_NE(r.err.find("q@l_4.x (no link 'l_4' in " + file("arm.urdf") + "; did you mean 'q@l4.x'?)"),
+  EXPECT_NE(r.err.find("q@l_4.x (no link 'l_4' in " + file("arm.urdf") +
+                       "; did you mean 'q@l4.x'?)"),
             std::string::npos)
       << r.err;
 }

@@ -12,8 +12,10 @@
 #include "io/closest_name.hpp"
 #include "stac/error.hpp"
 #include "stac/log.hpp"
+#include "stac/measurement.hpp"
 #include "stac/robot_model.hpp"
 #include "stac/sensors_file.hpp"
+#include "stac/simulate.hpp"
 
 namespace stac {
 namespace {
@@ -21,10 +23,12 @@ namespace {
 const char* kUrdf = R"(<?xml version="1.0"?>
 <robot name="arm2">
   <link name="base_link"/><link name="upper_link"/><link name="hand_link"/><link name="tool_link"/>
-  <joint name="shoulder_joint" type="revolute"><parent link="base_link"/><child link="upper_link"/>
-    <origin xyz="0 0 0.3"/><axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
-  <joint name="elbow_joint" type="revolute"><parent link="upper_link"/><child link="hand_link"/>
-    <origin xyz="0.3 0 0"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="shoulder_joint" type="revolute">
+    <parent link="base_link"/><child link="upper_link"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="elbow_joint" type="revolute">
+    <parent link="upper_link"/><child link="hand_link"/><origin xyz="0.3 0 0"/>
+    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
   <joint name="tool_joint" type="fixed"><parent link="hand_link"/><child link="tool_link"/>
     <origin xyz="0.1 0 0"/></joint>
 </robot>)";
@@ -104,6 +108,15 @@ TEST(LogColumns, MappedColumnsRoundTrip) {
   EXPECT_EQ(sensorsToYaml(plain.sensors, plain.theta).find("column"), std::string::npos);
 }
 
+TEST(LogColumns, SimulatedLogsUseTheMappedColumns) {
+  const SensorsFile sf = parse(kMapped);
+  SimulationOptions so;
+  so.frames = 3;
+  const Log log = simulate(MeasurementModel(model(), sf.sensors), sf.theta, so).data.log;
+  EXPECT_EQ(log.columns, (std::vector<std::string>{"enc_1", "enc_2", "x1", "y1", "z1"}));
+  EXPECT_NO_THROW(bindLog(log, sf.sensors, "s.yaml", 1.0, sf.column_keys));
+}
+
 TEST(LogColumns, ColumnKeyErrors) {
   const std::string head = "joint_sensors:\n  - {name: a, joint: shoulder_joint, column: enc}\n";
   // Read and ignored, in the file.
@@ -112,7 +125,8 @@ TEST(LogColumns, ColumnKeyErrors) {
                   "(line 2): a column is a sensor's or ignored, not both");
   // Ignored twice.
   expectYamlError(head + "ignore_columns:\n  - x\n  - x\n", 5,
-                  "key 'ignore_columns[1]': column 'x' is listed twice (ignore_columns[0], line 4)");
+                  "key 'ignore_columns[1]': column 'x' is listed twice "
+                  "(ignore_columns[0], line 4)");
   // Two sensors on one column, mapped or by name.
   expectYamlError(head + "  - {name: b, joint: elbow_joint, column: enc}\n", 3,
                   "key 'joint_sensors[1].column': column 'enc' is read by another sensor too "

@@ -2,12 +2,14 @@
 // Qualisys body on its hand, FIGAROH's recording): the raw export,
 // unmodified, calibrates with data/tiago_qualisys_sensors.yaml (a marker
 // on x1,y1,z1, encoder gains held at 1, bookkeeping ignored); the same log
-// with <marker>@<link> columns calibrates with no sensors file. Skipped
+// with <marker>@<link> columns calibrates with no sensors file (the
+// bookkeeping given to --ignore-columns). Skipped
 // when the recordings are not configured (STAC_REALDATA_DIR).
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "stac/log.hpp"
 #include "stac/robot_model.hpp"
@@ -79,6 +81,19 @@ TEST_F(Tiago, RawExportCalibratesWithTheBundledSensorsFile) {
   }
   EXPECT_LT(cal.theta.mocap.translation.norm(), 2.0);
   EXPECT_NE(yaml.find("unidentifiable: []"), std::string::npos) << yaml;
+
+  // The marker is point 1: the same file mapped onto point 2's columns
+  // puts its marker as far from this one as the recorded points are apart.
+  std::string seed = test::readFile(test::dataPath("tiago_qualisys_sensors.yaml"));
+  seed.replace(seed.find("columns: [x1, y1, z1]"), 21, "columns: [x2, y2, z2]");
+  seed.replace(seed.find("[x2, y2, z2, "), 13, "[x1, y1, z1, ");
+  test::writeFile(dir_.file("p2.yaml"), seed);
+  ASSERT_EQ(calib(log, "--sensors " + dir_.file("p2.yaml")).exit_code, 0);
+  const Log raw = readLog(log);
+  const Eigen::Vector3d p1 = raw.values.block<1, 3>(0, 0).transpose();
+  const Eigen::Vector3d p2 = raw.values.block<1, 3>(0, 3).transpose();
+  EXPECT_NEAR((calibration().theta.marker_position[0] - cal.theta.marker_position[0]).norm(),
+              (p1 - p2).norm(), 0.002);
 }
 
 TEST_F(Tiago, AHalfFixedSensorsFreeBiasIsReportedWhenItIsAGauge) {
@@ -103,34 +118,47 @@ TEST_F(Tiago, AHalfFixedSensorsFreeBiasIsReportedWhenItIsAGauge) {
 }
 
 TEST_F(Tiago, AtColumnsCalibrateWithNoSensorsFile) {
-  // The header renamed: point 1 of the hand body is p1@wrist_ft_tool_link.
-  // (Points 2-4 are virtual points of the same tracked body, exact to 1 µm:
-  // as free markers they would fit the mocap to nothing and leave the
-  // encoders every error, so they are ignored, as FIGAROH does.)
-  std::string text = test::readFile(realdata("qualisys_2021-11-30_static_postures.csv"));
-  const std::string from = "x1,y1,z1,";
-  ASSERT_EQ(text.rfind(from, 0), 0u);
-  text.replace(0, from.size(),
-               "p1@wrist_ft_tool_link.x,p1@wrist_ft_tool_link.y,p1@wrist_ft_tool_link.z,");
-  test::writeFile(dir_.file("renamed.csv"), text);
-  const auto r = calib(dir_.file("renamed.csv"),
-                       std::string("--ignore-columns x2,y2,z2,x3,y3,z3,x4,y4,z4,") + kBookkeeping);
+  // The header renamed: point k of the hand body is pk@wrist_ft_tool_link.
+  const std::string raw = realdata("qualisys_2021-11-30_static_postures.csv");
+  std::string text = test::readFile(raw);
+  std::string header = text.substr(0, text.find('\n'));
+  for (int k = 1; k <= 4; ++k)
+    for (const char axis : {'x', 'y', 'z'}) {
+      const std::string from = std::string(1, axis) + std::to_string(k) + ",";
+      const std::string to = "p" + std::to_string(k) + "@wrist_ft_tool_link." + axis + ",";
+      ASSERT_EQ(header.find(from), header.rfind(from));
+      header.replace(header.find(from), from.size(), to);
+    }
+  test::writeFile(dir_.file("renamed.csv"), header + text.substr(text.find('\n')));
+  const auto r = calib(dir_.file("renamed.csv"), std::string("--ignore-columns ") + kBookkeeping);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   const SensorsFile cal = calibration();
-  ASSERT_EQ(cal.sensors.markers.size(), 1u);
-  EXPECT_EQ(cal.sensors.markers[0].name, "p1");
-  EXPECT_EQ(cal.sensors.markers[0].link_name, "wrist_ft_tool_link");
+  ASSERT_EQ(cal.sensors.markers.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(cal.sensors.markers[k].name, "p" + std::to_string(k + 1));
+    EXPECT_EQ(cal.sensors.markers[k].link_name, "wrist_ft_tool_link");
+  }
   EXPECT_EQ(cal.sensors.joint_sensors.size(), 8u);
   const std::string yaml = test::readFile(dir_.file("cal.yaml"));
-  EXPECT_LT(markerRms(yaml, "p1"), 0.006) << yaml;
-  // Every parameter free (gains too): the three freedoms the bundled
-  // sensors file holds are named, not returned as numbers.
-  for (const char* gauge :
-       {"bias of arm_1_joint trades off with the mocap rotation",
-        "bias of torso_lift_joint trades off with the mocap translation",
-        "bias of arm_7_joint trades off with marker p1 position"})
+  for (int k = 1; k <= 4; ++k) EXPECT_LT(markerRms(yaml, "p" + std::to_string(k)), 0.003) << yaml;
+  // Every parameter free (gains too): the freedoms the bundled sensors file
+  // holds are named, not returned as numbers.
+  for (const char* gauge : {"bias of arm_1_joint trades off with the mocap rotation",
+                            "bias of torso_lift_joint trades off with the mocap translation",
+                            "bias of arm_7_joint trades off with marker"})
     EXPECT_NE(r.out.find(gauge), std::string::npos) << gauge << " in\n" << r.out;
-  EXPECT_LT((cal.theta.marker_position[0] - Eigen::Vector3d(0.063, -0.003, 0.07)).norm(), 0.03);
+  // The four fitted points keep the recorded body's shape (its mutual
+  // distances, which no gauge changes) to a millimetre.
+  const Log log = readLog(raw);
+  auto recorded = [&](int k) {
+    Eigen::Vector3d p;
+    for (int i = 0; i < 3; ++i) p[i] = log.values(0, 3 * k + i);
+    return p;
+  };
+  const std::vector<Eigen::Vector3d>& d = cal.theta.marker_position;
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b)
+      EXPECT_NEAR((d[a] - d[b]).norm(), (recorded(a) - recorded(b)).norm(), 0.001) << a << b;
 }
 
 }  // namespace

@@ -5,48 +5,20 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstdlib>
-#include <limits>
 #include <map>
 #include <optional>
 #include <set>
 #include <sstream>
-#include <string_view>
 
 #include "io/rpy.hpp"
 #include "io/yaml_guard.hpp"
+#include "io/yaml_number.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
 
 namespace stac {
 namespace {
-
-// A YAML plain scalar as a double: decimal and exponent forms of YAML 1.1
-// and 1.2 ("1", "1.0", "1e-05", "1.0e-05", "+2."), and .inf/.nan.
-std::optional<double> parseNumber(const std::string& s) {
-  std::string_view v(s);
-  bool negative = false;
-  if (!v.empty() && (v.front() == '+' || v.front() == '-')) {
-    negative = v.front() == '-';
-    v.remove_prefix(1);
-  }
-  if (v == ".inf" || v == ".Inf" || v == ".INF")
-    return negative ? -std::numeric_limits<double>::infinity()
-                    : std::numeric_limits<double>::infinity();
-  if (v == ".nan" || v == ".NaN" || v == ".NAN") return std::numeric_limits<double>::quiet_NaN();
-  if (v.empty() || !(std::isdigit(static_cast<unsigned char>(v.front())) || v.front() == '.'))
-    return std::nullopt;
-  double x = 0;
-  const auto res = std::from_chars(v.data(), v.data() + v.size(), x);
-  if (res.ptr != v.data() + v.size()) return std::nullopt;
-  if (res.ec == std::errc::result_out_of_range)  // underflow -> 0 or subnormal, overflow -> inf
-    x = std::strtod(std::string(v).c_str(), nullptr);
-  else if (res.ec != std::errc())
-    return std::nullopt;
-  return negative ? -x : x;
-}
 
 bool isTimeName(const std::string& s) { return s == "time" || s == "t" || s == "timestamp"; }
 
@@ -98,7 +70,7 @@ class Reader {
     if (!n.IsScalar()) fail(n, key, n.IsNull() ? "expected a number, got nothing" : "expected a number");
     const std::string& s = n.Scalar();
     if (n.Tag() == "!") fail(n, key, "expected a number, got the quoted string \"" + s + "\"");
-    const std::optional<double> v = parseNumber(s);
+    const std::optional<double> v = parseYamlNumber(s);
     if (!v) fail(n, key, "expected a number, got '" + s + "'");
     if (!std::isfinite(*v)) fail(n, key, "'" + s + "' is not a finite number");
     return *v;
@@ -202,7 +174,7 @@ class Reader {
   }
 
   // A sensor's or marker's name. It is the default of its log column(s)
-  // (claimed apart, by column()), so it must be one that a CSV can hold.
+  // (claimed apart, by claimColumn), so it must be one that a CSV can hold.
   std::string sensorName(const YAML::Node& n, const std::string& key) {
     const std::string name = text(n, key);
     requireCsvName(n, key, "name", name);
@@ -228,7 +200,8 @@ class Reader {
                   : "name '" + column + "' is reserved for the log's time column");
     const auto [it, fresh] = columns_.emplace(column, ColumnKey{key, line(at), mapped});
     if (fresh) return;
-    const std::string first = " (" + it->second.key + ", line " + std::to_string(it->second.line) + ")";
+    const std::string first =
+        " (" + it->second.key + ", line " + std::to_string(it->second.line) + ")";
     fail(at, key,
          mapped ? "column '" + column + "' is read by another sensor too" + first
                 : "name '" + keyName(at) + "' gives log column '" + column +
@@ -313,7 +286,8 @@ void readFrame(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameter
 void readMarkerColumns(Reader& rd, std::map<std::string, YAML::Node>& m, const std::string& key,
                        MarkerConfig* mc) {
   if (!m.count("columns")) {
-    for (const std::string& c : mc->logColumns()) rd.claimColumn(m["name"], key + ".name", c, false);
+    for (const std::string& c : mc->logColumns())
+      rd.claimColumn(m["name"], key + ".name", c, false);
     return;
   }
   const YAML::Node& list = m["columns"];
@@ -351,7 +325,8 @@ void readMocap(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameter
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string key = "mocap.markers[" + std::to_string(i) + "]";
     auto m = rd.fields(list[i], key,
-                       {"name", "link", "position", "fixed", "sigma", "columns", "std", "residual"});
+                       {"name", "link", "position", "fixed", "sigma", "columns", "std",
+                        "residual"});
     if (!m.count("name")) rd.fail(list[i], key + ".name", "missing (every marker needs a name)");
     if (!m.count("link")) rd.fail(list[i], key + ".link", "missing (every marker needs a link)");
     MarkerConfig mc;

@@ -71,7 +71,8 @@ class QuietUrdfdom {
  private:
   struct KeepErrors : console_bridge::OutputHandler {
     void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-      if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors += (errors.empty() ? "" : "; ") + text;
+      if (level < console_bridge::CONSOLE_BRIDGE_LOG_ERROR) return;
+      errors += (errors.empty() ? "" : "; ") + text;
     }
     std::string errors;
   };
