@@ -8,6 +8,7 @@
 
 #include "common/calib_report.hpp"
 #include "common/cli.hpp"
+#include "common/inputs.hpp"
 #include "common/outputs.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/error.hpp"
@@ -60,6 +61,7 @@ const std::vector<cli::Option> kOptions = {
     {"mocap-units", "m|mm", "unit of the marker columns (default m)"},
     {"holdout", "F", "keep the last fraction F of the frames (0 < F < 1) out of the fit and print "
                      "the cross-sensor prediction table on them"},
+    cli::ignoreColumnsOption(),
     {"quiet", "", "no progress lines on stderr"},
 };
 
@@ -229,10 +231,8 @@ int run(const cli::Args& args) {
   const RobotModel robot = RobotModel::fromFile(urdf);
   const Log log = readLog(log_path);
   requireDataRows(log);  // before inference, which would only complain about the header
-  const SensorsFile sf = sensors_path.empty() ? inferSensorsFromLog(log, robot)
-                                              : loadSensorsFile(sensors_path, robot);
-  const Observations all =
-      bindLog(log, sf.sensors, sensors_path.empty() ? log_path : sensors_path, mocap_scale);
+  const SensorsFile sf = cli::sensorsForLog(args, sensors_path, robot, log);
+  const Observations all = cli::bindSensors(log, sf, sensors_path, mocap_scale);
   if (!ekf_q_path.empty()) options.ekf.initial_q = firstJointAngles(readLog(ekf_q_path), robot);
   requireReadings(all, sf.sensors, log_path, ReadingCheck::kEverySensor);
   const int test_frames = holdoutFrames(holdout, args, all.num_frames, log_path);
