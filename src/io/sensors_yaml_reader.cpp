@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "io/log_header.hpp"
 #include "io/rpy.hpp"
 #include "io/yaml_guard.hpp"
 #include "stac/error.hpp"
@@ -47,8 +48,6 @@ std::optional<double> parseNumber(const std::string& s) {
     return std::nullopt;
   return negative ? -x : x;
 }
-
-bool isTimeName(const std::string& s) { return s == "time" || s == "t" || s == "timestamp"; }
 
 class Reader {
  public:
@@ -211,7 +210,7 @@ class Reader {
       fail(n, key,
            "name '" + name +
                "' cannot be a CSV column (no commas, quotes, leading '#' or surrounding spaces)");
-    if (!marker && isTimeName(name))
+    if (!marker && io::isTimeName(name))
       fail(n, key, "name '" + name + "' is reserved for the log's time column");
     std::vector<std::string> cols;
     if (marker)
