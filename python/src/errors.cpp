@@ -20,7 +20,8 @@ void bindErrors(py::module_& m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InputError& e) {
-      py::object error = input_error(e.what());
+      // py::exception::operator() only sets the error: call the class itself.
+      py::object error = py::reinterpret_borrow<py::object>(input_error.ptr())(e.what());
       error.attr("file") = e.file();
       error.attr("line") = e.line();
       error.attr("column") = e.column();

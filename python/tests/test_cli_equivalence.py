@@ -53,6 +53,7 @@ def test_hand24_equals_stac_calib(tmp_path, hand24, hand24_log):
     assert result.to_yaml() == py
 
 
+@pytest.mark.filterwarnings("ignore::stac.SuspectCalibrationWarning")
 @pytest.mark.parametrize("method", ["joint", "ekf"])
 def test_other_methods_equal_stac_calib(tmp_path, gimbal2, method):
     robot, seed, log = gimbal2
