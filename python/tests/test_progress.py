@@ -42,16 +42,26 @@ def test_progress_does_not_change_the_result(gimbal2):
 METHODS = [("stac", "gimbal2"), ("joint", "gimbal2"), ("ekf", "gimbal2"), ("classical", "hand24")]
 
 
-@pytest.mark.parametrize("method, robot_name", METHODS)
-def test_an_exception_from_the_callback_stops_every_method(method, robot_name, request):
-    robot, seed, log = request.getfixturevalue(robot_name)
+def second_call_does(action):
+    """A progress callback that runs `action` at its second call, and its calls."""
     calls = []
 
     def progress(p):
         calls.append(p)
         if len(calls) == 2:
-            raise Stop(f"stopped at {p['stage']} {p['iteration']}")
+            action(p)
 
+    return progress, calls
+
+
+def stop(p):
+    raise Stop(f"stopped at {p['stage']} {p['iteration']}")
+
+
+@pytest.mark.parametrize("method, robot_name", METHODS)
+def test_an_exception_from_the_callback_stops_every_method(method, robot_name, request):
+    robot, seed, log = request.getfixturevalue(robot_name)
+    progress, calls = second_call_does(stop)
     with pytest.raises(Stop, match="stopped at"):
         stac.calibrate(robot, seed, log, method=method, progress=progress)
     assert len(calls) == 2, "no call after the one that raised"
@@ -65,13 +75,8 @@ def test_an_exception_from_the_callback_stops_every_method(method, robot_name, r
 @pytest.mark.parametrize("method, robot_name", METHODS)
 def test_ctrl_c_stops_every_method(method, robot_name, request):
     robot, seed, log = request.getfixturevalue(robot_name)
-    calls = []
-
-    def progress(p):
-        calls.append(p)
-        if len(calls) == 2:
-            os.kill(os.getpid(), signal.SIGINT)  # as Ctrl-C does
-
+    # As Ctrl-C does: SIGINT to the process, while the callback runs.
+    progress, calls = second_call_does(lambda p: os.kill(os.getpid(), signal.SIGINT))
     with pytest.raises(KeyboardInterrupt):
         stac.calibrate(robot, seed, log, method=method, progress=progress)
     assert len(calls) == 2
