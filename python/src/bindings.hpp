@@ -7,6 +7,9 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
 
 #include <string>
 
@@ -17,6 +20,9 @@
 namespace stac::python {
 
 namespace py = pybind11;
+
+// File names: a str or any os.PathLike (pathlib.Path).
+using Path = std::filesystem::path;
 
 // A sensors file as read, with where it came from: calibrate() names that
 // source in errors about the sensors (as stac_calib names its --sensors, or

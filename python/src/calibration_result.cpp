@@ -108,10 +108,13 @@ std::string yamlOf(const Calibration& c) {
 
 void warnIfSuspect(const CalibrationSummary& summary) {
   if (!summary.suspect()) return;
-  static py::object category = py::module_::import("stac._stac").attr("SuspectCalibrationWarning");
+  // Kept for the process's life (a static py::object would be released after
+  // the interpreter is gone).
+  static PyObject* const category =
+      py::object(py::module_::import("stac._stac").attr("SuspectCalibrationWarning")).release().ptr();
   std::string message = "the calibration failed its own checks (result.verdict):";
   for (const std::string& reason : summary.verdict) message += "\n  " + reason;
-  if (PyErr_WarnEx(category.ptr(), message.c_str(), 2) != 0) throw py::error_already_set();
+  if (PyErr_WarnEx(category, message.c_str(), 2) != 0) throw py::error_already_set();
 }
 
 void bindCalibrationResult(py::module_& m) {
@@ -164,7 +167,7 @@ void bindCalibrationResult(py::module_& m) {
                " iterations, " + (s.suspect() ? "suspect" : "ok") + ">";
       });
   m.def(
-      "write_sensors", [](const std::string& path, const Calibration& c) { writeText(path, yamlOf(c)); },
+      "write_sensors", [](const Path& path, const Calibration& c) { writeText(path.string(), yamlOf(c)); },
       py::arg("path"), py::arg("result"));
 }
 

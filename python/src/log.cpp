@@ -72,12 +72,13 @@ void bindLog(py::module_& m) {
                " frames x " + std::to_string(log.columns.size()) + " columns>";
       });
 
-  m.def("read_log", &readLog, py::arg("path"),
+  m.def(
+      "read_log", [](const Path& path) { return readLog(path.string()); }, py::arg("path"),
         "Reads a CSV log. Raises InputError naming the file, line and column of a bad cell.");
   m.def("parse_log", &parseLog, py::arg("text"), py::arg("source") = "<string>",
         "Parses CSV text; `source` names it in errors.");
   m.def(
-      "write_log", [](const std::string& path, const Log& log) { writeLog(path, log); },
+      "write_log", [](const Path& path, const Log& log) { writeLog(path.string(), log); },
       py::arg("path"), py::arg("log"),
       "Writes the log as CSV (numbers that read back exactly; NaN as empty cells).");
 }

@@ -8,10 +8,15 @@ PYBIND11_MODULE(_stac, m) {
       "STAC — Simultaneous Tracking And Calibration of a robot's kinematic sensors.\n\n"
       "The C++ library's own functions: the same file formats, checks, errors and results "
       "as the stac_calib, stac_simulate and stac_eval commands.";
+  // Classes take their __module__ from the module's name when made: "stac",
+  // the package users import, so that signatures and reprs say stac.Log.
+  const py::object name = m.attr("__name__");
+  m.attr("__name__") = "stac";
   bindErrors(m);
   bindRobot(m);
   bindSensors(m);
   bindLog(m);
   bindCalibrate(m);
   bindAnalysis(m);
+  m.attr("__name__") = name;
 }

@@ -25,7 +25,9 @@ void bindRobot(py::module_& m) {
       "A robot's kinematics from a URDF (SPEC §1), never changed once loaded.\n\n"
       "q, the joint vector, holds every revolute, continuous and prismatic joint that is "
       "not a mimic follower, in the order the joints appear in the URDF.")
-      .def_static("from_urdf", &RobotModel::fromFile, py::arg("path"),
+      .def_static(
+          "from_urdf", [](const Path& path) { return RobotModel::fromFile(path.string()); },
+          py::arg("path"),
                   "Loads a URDF file. Raises InputError naming the file and the problem.")
       .def_static("from_urdf_string", &RobotModel::fromString, py::arg("urdf"),
                   py::arg("source") = "<string>",

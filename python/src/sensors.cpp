@@ -98,8 +98,8 @@ void bindSensors(py::module_& m) {
 
   m.def(
       "read_sensors",
-      [](const std::string& path, const RobotModel& robot) {
-        return Sensors{loadSensorsFile(path, robot), path};
+      [](const Path& path, const RobotModel& robot) {
+        return Sensors{loadSensorsFile(path.string(), robot), path.string()};
       },
       py::arg("path"), py::arg("robot"),
       "Reads a sensors file (a seed or a calibration output) against the robot's links and "
@@ -121,8 +121,8 @@ void bindSensors(py::module_& m) {
       "without --sensors.");
   m.def(
       "write_sensors",
-      [](const std::string& path, const Sensors& s) {
-        writeText(path, sensorsToYaml(s.file.sensors, s.file.theta));
+      [](const Path& path, const Sensors& s) {
+        writeText(path.string(), sensorsToYaml(s.file.sensors, s.file.theta));
       },
       py::arg("path"), py::arg("sensors"),
       "Writes a sensors file (or, given a CalibrationResult, the calibration exactly as "

@@ -50,12 +50,3 @@ __all__ = [
     "write_log",
     "write_sensors",
 ]
-
-# Show the public names as stac.X rather than stac._stac.X.
-for _name in ("CalibrationResult", "InputError", "Log", "RobotModel", "Sensors",
-              "SuspectCalibrationWarning"):
-    try:
-        globals()[_name].__module__ = "stac"
-    except (AttributeError, TypeError):
-        pass
-del _name

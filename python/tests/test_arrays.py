@@ -130,3 +130,13 @@ def test_ekf_initial_q_takes_an_array(gimbal2):
     assert r.joint_angles.shape == (log.frames, robot.dof)
     with pytest.raises(ValueError, match="ekf_initial_q: expected 2 joint angles"):
         stac.calibrate(robot, seed, log, method="ekf", ekf_initial_q=[0.0])
+
+
+def test_paths_may_be_pathlib(tmp_path, data):
+    robot = stac.RobotModel.from_urdf(data / "gimbal2.urdf")
+    seed = stac.read_sensors(data / "gimbal2_seed.yaml", robot)
+    log = stac.read_log(data / "gimbal2_example.csv")
+    stac.write_sensors(tmp_path / "seed.yaml", seed)
+    stac.write_log(tmp_path / "log.csv", log)
+    assert (tmp_path / "seed.yaml").read_text() == seed.to_yaml()
+    assert (tmp_path / "log.csv").read_bytes() == (data / "gimbal2_example.csv").read_bytes()
