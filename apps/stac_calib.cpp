@@ -245,13 +245,9 @@ int run(const cli::Args& args) {
   std::vector<IterationReport> history;  // for the report's convergence plot
   if (!quiet || !report_path.empty()) options.progress = progressPrinter(quiet, &history);
   RowMatrix q;
-  CalibrationResult result;
-  try {
-    result = calibrate(robot, sf.sensors, sf.theta, obs, options, &q);
-  } catch (const std::invalid_argument& e) {
-    // Sensors the method cannot calibrate: name the file that defines them.
-    throw InputError(sensors_path.empty() ? log_path : sensors_path, e.what());
-  }
+  const CalibrationResult result =
+      calibrateFromSource(sensors_path.empty() ? log_path : sensors_path, robot, sf.sensors,
+                          sf.theta, obs, options, &q);
 
   // All outputs are complete in memory before the first is written.
   const std::string yaml = sensorsToYaml(result.sensors, result.theta, &result);

@@ -14,7 +14,9 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 packages=(build-essential cmake ninja-build pkg-config libceres-dev
   libsuitesparse-dev libeigen3-dev liburdfdom-dev libtinyxml-dev
   liborocos-kdl-dev libyaml-cpp-dev libgtest-dev libgmock-dev
-  libbenchmark-dev python3)
+  libbenchmark-dev python3
+  # The Python module (python/): built against Debian's interpreter.
+  python3-dev python3-numpy python3-pytest python3-venv pybind11-dev)
 
 install_deps() {
   local missing=()

@@ -113,6 +113,17 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
                             RowMatrix* joint_angles = nullptr,
                             const RowMatrix* q0 = nullptr);
 
+// calibrate() from the wide-basin start as the front ends run it (stac_calib,
+// the Python module), on sensors read from `sensors_source`: a sensors file,
+// or the log they were inferred from. Sensors the method cannot calibrate
+// (std::invalid_argument, e.g. kClassical and a joint without a one-joint
+// sensor) are bad input in that file: an InputError naming it. Options are
+// the caller's to validate first (isValid), or they are reported so too.
+CalibrationResult calibrateFromSource(const std::string& sensors_source, const RobotModel& robot,
+                                      const SensorSet& sensors, const SensorParameters& seed,
+                                      const Observations& obs, const CalibrationOptions& options,
+                                      RowMatrix* joint_angles);
+
 // A human summary of r (what stac_calib prints): the run, residual RMS per
 // group before and after, the parameters that moved most from `seed`, the
 // unidentifiable directions and the down-weighted readings.

@@ -36,6 +36,15 @@ struct Log {
 Log readLog(const std::string& path);
 Log parseLog(const std::string& text, const std::string& source_name);
 
+// A log from a table in memory (the Python module's arrays): `header` names
+// the columns of `values` (frames x header, NaN = missing), a time column
+// among them as in a CSV header. Checked as that table written as CSV would
+// be (header on line 1, frame t on line t + 2): the same InputErrors, naming
+// source_name, line and column. Throws std::invalid_argument if the sizes
+// disagree.
+Log logFromTable(const std::vector<std::string>& header, const Eigen::Ref<const RowMatrix>& values,
+                 const std::string& source_name);
+
 // Writes a log (numbers with enough digits to round-trip; NaN as empty
 // cells), through a temporary file renamed into place.
 void writeLog(const std::string& path, const Log& log);

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "io/log_header.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
 
@@ -23,8 +24,6 @@ std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
   return s;
 }
-
-bool isTimeName(const std::string& s) { return s == "time" || s == "t" || s == "timestamp"; }
 
 // "nan", "NaN", "-nan" (what printf writes for a negative NaN), any case.
 bool isMissing(std::string_view cell) {
@@ -157,27 +156,8 @@ class LogParser {
   }
 
   void readHeader() {
-    std::set<std::string> seen;
-    for (size_t c = 0; c < cells_.size(); ++c) {
-      const std::string name(trim(cells_[c]));
-      if (name.empty())
-        throw InputError(log_.path, line_, static_cast<int>(c + 1),
-                         "empty column name in the header");
-      if (!seen.insert(name).second)
-        throw InputError(log_.path, line_, static_cast<int>(c + 1),
-                         "column '" + name + "' appears twice in the header");
-      if (isTimeName(name)) {
-        if (time_col_ >= 0)
-          throw InputError(log_.path, line_, static_cast<int>(c + 1),
-                           "two time columns ('" + header_[time_col_] + "' and '" + name + "')");
-        time_col_ = static_cast<int>(c);
-        log_.time_name = name;
-      }
-      header_.push_back(name);
-    }
-    for (size_t c = 0; c < header_.size(); ++c)
-      if (static_cast<int>(c) != time_col_) log_.columns.push_back(header_[c]);
-    log_.header_line = line_;
+    for (std::string_view cell : cells_) header_.emplace_back(trim(cell));
+    time_col_ = io::readLogHeader(header_, line_, &log_);
     reserveFrames();
   }
 
@@ -219,8 +199,7 @@ class LogParser {
   }
 
   [[noreturn]] void missingTime() const {
-    throw InputError(log_.path, line_, time_col_ + 1,
-                     "column '" + header_[time_col_] + "': the time is missing");
+    throw InputError(log_.path, line_, time_col_ + 1, io::missingTimeMessage(header_[time_col_]));
   }
 
   // Moves the frame in row_buf_ (one value per header column) into the log.

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/log_header.hpp"
 #include "io/rpy.hpp"
 #include "io/yaml_guard.hpp"
 #include "io/yaml_number.hpp"
@@ -20,7 +21,6 @@
 namespace stac {
 namespace {
 
-bool isTimeName(const std::string& s) { return s == "time" || s == "t" || s == "timestamp"; }
 
 class Reader {
  public:
@@ -177,7 +177,6 @@ class Reader {
   // (claimed apart, by claimColumn), so it must be one that a CSV can hold.
   std::string sensorName(const YAML::Node& n, const std::string& key) {
     const std::string name = text(n, key);
-    requireCsvName(n, key, "name", name);
     if (!names_.insert(name).second) fail(n, key, "name '" + name + "' is used twice");
     return name;
   }
@@ -194,7 +193,7 @@ class Reader {
   // and none may be the time column.
   void claimColumn(const YAML::Node& at, const std::string& key, const std::string& column,
                    bool mapped) {
-    if (isTimeName(column))
+    if (io::isTimeName(column))
       fail(at, key,
            mapped ? "column '" + column + "' is the log's time column, not a sensor's"
                   : "name '" + column + "' is reserved for the log's time column");

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "methods/method.hpp"
+#include "stac/error.hpp"
 #include "solve/parallel.hpp"
 
 namespace stac {
@@ -65,6 +66,17 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
     case Method::kClassical: return makeResult(in, runClassical(in), joint_angles);
   }
   throw std::invalid_argument("unknown method");
+}
+
+CalibrationResult calibrateFromSource(const std::string& sensors_source, const RobotModel& robot,
+                                      const SensorSet& sensors, const SensorParameters& seed,
+                                      const Observations& obs, const CalibrationOptions& options,
+                                      RowMatrix* joint_angles) {
+  try {
+    return calibrate(robot, sensors, seed, obs, options, joint_angles);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(sensors_source, e.what());
+  }
 }
 
 }  // namespace stac
