@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "methods/origin_verdict.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/error.hpp"
 #include "stac/evaluate.hpp"
@@ -360,6 +361,41 @@ TEST(JointOrigins, CommandLineOptions) {
   EXPECT_DOUBLE_EQ(out.sensors.origin_prior.xyz, 0.002);
   EXPECT_DOUBLE_EQ(out.sensors.origin_prior.rpy, 0.004);
   EXPECT_NE(test::readFile(dir.file("out.yaml")).find("      std: {xyz: ["), std::string::npos);
+}
+
+}  // namespace
+}  // namespace stac
+
+namespace stac {
+namespace {
+
+TEST(JointOrigins, VerdictFlagsImplausibleCorrections) {
+  SensorSet sensors;
+  sensors.joint_origins = {{"j1", 1, FixedOrigin{}}, {"j2", 2, FixedOrigin{false, true}}};
+  SensorParameters theta;
+  theta.joint_origin.resize(2);
+  theta.joint_origin[0].xyz = Eigen::Vector3d(0.002, 0, 0);
+  theta.joint_origin[1].rpy = Eigen::Vector3d(0, 0.5, 0);  // held: never suspect
+  std::vector<std::string> why;
+  sensors.origin_prior = {0.005, 0.01};
+  checkJointOrigins(sensors, theta, &why);
+  EXPECT_TRUE(why.empty());
+  theta.joint_origin[0].rpy = Eigen::Vector3d(0, -0.06, 0);  // 6 prior std
+  checkJointOrigins(sensors, theta, &why);
+  ASSERT_EQ(why.size(), 1u);
+  EXPECT_NE(why[0].find("origin rotation correction of j1 (-3.44 deg) is beyond 5 prior std"),
+            std::string::npos)
+      << why[0];
+  why.clear();
+  sensors.origin_prior = {};  // no prior: plausibility in absolute terms
+  checkJointOrigins(sensors, theta, &why);
+  EXPECT_TRUE(why.empty());
+  theta.joint_origin[0].xyz = Eigen::Vector3d(0, 0.08, 0);
+  checkJointOrigins(sensors, theta, &why);
+  ASSERT_EQ(why.size(), 1u);
+  EXPECT_NE(why[0].find("translation correction of j1 (80 mm) is implausibly large"),
+            std::string::npos)
+      << why[0];
 }
 
 }  // namespace

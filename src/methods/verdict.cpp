@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "methods/origin_verdict.hpp"
 #include "solve/q_phase.hpp"
 
 namespace stac {
@@ -102,6 +103,7 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out,
   checkGroups(in, s, &why);
   checkSensors(in, r, &why);
   checkMarkers(in, r, &why);
+  checkJointOrigins(r.sensors, r.theta, &why);
   return why;
 }
 
