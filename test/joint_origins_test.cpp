@@ -182,6 +182,30 @@ void expectError(const std::string& yaml, int line, const std::string& part) {
   }
 }
 
+TEST(JointOrigins, ThetaSpaceBlock) {
+  const RobotModel robot = RobotModel::fromFile(ur5Path());
+  const SensorsFile f = parseSensorsYaml(kOriginsYaml, "seed.yaml", robot);
+  const ThetaSpace space(f.sensors);
+  const int o = space.originOffset(0);
+  EXPECT_EQ(space.size(), o + 12);
+  for (int i = o; i < space.size(); ++i) {
+    const ThetaEntry e = space.entry(i);
+    EXPECT_EQ(e.block, ThetaBlock::kJointOrigin);
+    EXPECT_EQ(i, space.originOffset(e.item) + e.component);
+    EXPECT_DOUBLE_EQ(space.priorStd(i), e.component < 3 ? 0.004 : 0.02);
+    EXPECT_EQ(space.free()[i], !(e.item == 0 && e.component >= 3));  // elbow: fixed: [rpy]
+  }
+  EXPECT_EQ(space.priorStd(space.jointOffset(0)), 0.0);
+  EXPECT_EQ(space.ownerPhrase(o + 4), "origin rotation of elbow_joint");
+  EXPECT_EQ(space.ownerKey(o + 1), "joint_origins.elbow_joint.xyz");
+  Eigen::VectorXd delta = Eigen::VectorXd::LinSpaced(space.size(), 0.001, 0.002);
+  const SensorParameters moved = space.plus(f.theta, delta);
+  EXPECT_LT((space.minus(moved, f.theta) - delta).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(space.value(moved, o + 5), f.theta.joint_origin[0].rpy[2] + delta[o + 5]);
+  const ParameterStd sd = space.toParameterStd(delta);
+  EXPECT_EQ(sd.joint_origin[1].xyz, delta.segment<3>(o + 6));
+}
+
 TEST(JointOrigins, SensorsFileErrorsNameKeyAndLine) {
   const std::string head = "joint_sensors:\n  - name: p1\n    joint: shoulder_pan_joint\n";
   expectError(head + "joint_origins:\n  joints:\n    - joint: nope\n", 6,
