@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "methods/monolithic_costs.hpp"
 #include "methods/origin_verdict.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/error.hpp"
@@ -387,11 +388,6 @@ TEST(JointOrigins, CommandLineOptions) {
   EXPECT_NE(test::readFile(dir.file("out.yaml")).find("      std: {xyz: ["), std::string::npos);
 }
 
-}  // namespace
-}  // namespace stac
-
-namespace stac {
-namespace {
 
 TEST(JointOrigins, VerdictFlagsImplausibleCorrections) {
   SensorSet sensors;
@@ -420,6 +416,55 @@ TEST(JointOrigins, VerdictFlagsImplausibleCorrections) {
   EXPECT_NE(why[0].find("translation correction of j1 (80 mm) is implausibly large"),
             std::string::npos)
       << why[0];
+}
+
+
+// --method joint's marker cost: its Jacobian with respect to each origin
+// block against central differences, the cache refreshed at every point
+// (as Ceres's EvaluationCallback does).
+TEST(JointOrigins, MonolithicMarkerCostOriginJacobians) {
+  const RobotModel robot = RobotModel::fromFile(ur5Path());
+  std::mt19937 rng(9);
+  std::vector<int> links;
+  std::vector<OriginCorrection> corr;
+  correctEveryJoint(robot, rng, &links, &corr);
+  std::vector<double> origins;
+  for (const OriginCorrection& c : corr)
+    for (int k = 0; k < 6; ++k) origins.push_back(k < 3 ? c.xyz[k] : c.rpy[k - 3]);
+  RowMatrix q(1, robot.dof());
+  q.row(0) = test::randomQ(robot, rng).transpose();
+  monolithic::KinematicsCache cache(robot, &q, 1, links, origins.data());
+  const int link = *robot.linkIndex("wrist_3_link");
+  const std::vector<int> support = supportingCorrections(robot, links, link);
+  monolithic::MarkerReadingCost cost(robot, cache, 0, link, Eigen::Vector3d(0.1, 0.2, 0.3), 0.002,
+                                     support);
+  double rot[4] = {0.9, 0.1, -0.3, 0.2}, t[3] = {0.1, 0.2, 0.3}, d[3] = {0.03, -0.02, 0.05};
+  std::vector<const double*> p = {q.row(0).data(), rot, t, d};
+  for (int c : support) p.push_back(origins.data() + 6 * c);
+  auto residual = [&]() {
+    cache.PrepareForEvaluation(false, true);
+    Eigen::Vector3d r;
+    cost.Evaluate(p.data(), r.data(), nullptr);
+    return r;
+  };
+  cache.PrepareForEvaluation(true, true);
+  std::vector<Eigen::Matrix<double, 3, 6, Eigen::RowMajor>> J(support.size());
+  std::vector<double*> jac(4 + support.size(), nullptr);
+  for (size_t i = 0; i < support.size(); ++i) jac[4 + i] = J[i].data();
+  Eigen::Vector3d r0;
+  ASSERT_TRUE(cost.Evaluate(p.data(), r0.data(), jac.data()));
+  for (size_t i = 0; i < support.size(); ++i)
+    for (int k = 0; k < 6; ++k) {
+      double& v = origins[6 * support[i] + k];
+      const double h = 1e-7, v0 = v;
+      v = v0 + h;
+      const Eigen::Vector3d rp = residual();
+      v = v0 - h;
+      const Eigen::Vector3d rm = residual();
+      v = v0;
+      EXPECT_LT(((rp - rm) / (2 * h) - J[i].col(k)).norm(), 1e-5 * (1 + J[i].col(k).norm()))
+          << "correction " << support[i] << " component " << k;
+    }
 }
 
 }  // namespace
