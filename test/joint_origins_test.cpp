@@ -13,6 +13,7 @@
 #include "stac/error.hpp"
 #include "stac/evaluate.hpp"
 #include "stac/kinematics.hpp"
+#include "stac/measurement.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
 #include "stac/theta_space.hpp"
@@ -463,6 +464,66 @@ TEST(JointOrigins, MonolithicMarkerCostOriginJacobians) {
       const Eigen::Vector3d rm = residual();
       v = v0;
       EXPECT_LT(((rp - rm) / (2 * h) - J[i].col(k)).norm(), 1e-5 * (1 + J[i].col(k).norm()))
+          << "correction " << support[i] << " component " << k;
+    }
+}
+
+
+// --method joint's path-tendon cost: its Jacobian with respect to the origin
+// blocks that move its anchors against central differences.
+TEST(JointOrigins, MonolithicTendonCostOriginJacobians) {
+  const RobotModel robot = RobotModel::fromFile(ur5Path());
+  std::mt19937 rng(10);
+  SensorSet sensors;
+  SensorParameters theta;
+  for (const MovableJoint& mj : robot.movableJoints()) {
+    sensors.joint_origins.push_back({mj.name, mj.child_link, FixedOrigin{}});
+    theta.joint_origin.push_back(randomCorrection(rng, 0.01, 0.1));
+  }
+  TendonSensorConfig path;
+  path.name = "cable";
+  path.path = {{"upper_arm_link", *robot.linkIndex("upper_arm_link"), {0.02, 0.01, 0.1}},
+               {"forearm_link", *robot.linkIndex("forearm_link"), {0.03, -0.02, 0.2}},
+               {"wrist_2_link", *robot.linkIndex("wrist_2_link"), {0.01, 0.02, 0.02}}};
+  sensors.tendon_sensors.push_back(path);
+  theta.tendon_sensor.push_back({1.5, 0.1});
+  const MeasurementModel model(robot, sensors);
+  std::vector<double> origins;
+  for (const OriginCorrection& c : theta.joint_origin)
+    for (int k = 0; k < 6; ++k) origins.push_back(k < 3 ? c.xyz[k] : c.rpy[k - 3]);
+  RowMatrix q(1, robot.dof());
+  q.row(0) = test::randomQ(robot, rng).transpose();
+  monolithic::KinematicsCache cache(robot, &q, 1, model.thetaSpace().originLinks(),
+                                    origins.data());
+  const std::vector<int>& support = model.tendonOrigins(0);
+  ASSERT_EQ(support.size(), 5u);  // every joint up to wrist_2's
+  monolithic::ScalarReadingCost cost(robot, cache, 0, nullptr, &sensors.tendon_sensors[0], 0.3,
+                                     0.01, support, model.anchorOriginSlots(0));
+  double gb[2] = {1.5, 0.1};
+  std::vector<const double*> p = {q.row(0).data(), gb};
+  for (int c : support) p.push_back(origins.data() + 6 * c);
+  auto residual = [&]() {
+    cache.PrepareForEvaluation(false, true);
+    double r = 0;
+    cost.Evaluate(p.data(), &r, nullptr);
+    return r;
+  };
+  cache.PrepareForEvaluation(true, true);
+  std::vector<Eigen::Matrix<double, 1, 6>> J(support.size());
+  std::vector<double*> jac(2 + support.size(), nullptr);
+  for (size_t i = 0; i < support.size(); ++i) jac[2 + i] = J[i].data();
+  double r0 = 0;
+  ASSERT_TRUE(cost.Evaluate(p.data(), &r0, jac.data()));
+  for (size_t i = 0; i < support.size(); ++i)
+    for (int k = 0; k < 6; ++k) {
+      double& v = origins[6 * support[i] + k];
+      const double h = 1e-7, v0 = v;
+      v = v0 + h;
+      const double rp = residual();
+      v = v0 - h;
+      const double rm = residual();
+      v = v0;
+      EXPECT_NEAR((rp - rm) / (2 * h), J[i][k], 1e-5 * (1 + std::abs(J[i][k])))
           << "correction " << support[i] << " component " << k;
     }
 }

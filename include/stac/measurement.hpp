@@ -80,7 +80,7 @@ class MeasurementModel {
   // path s, the positions among tendonOrigins(s) of those that move it.
   const std::vector<int>& markerOrigins(int m) const { return marker_origins_[m]; }
   const std::vector<int>& tendonOrigins(int s) const { return tendon_origins_[s]; }
-  const std::vector<int>& anchorOriginSlots(int s, int k) const { return anchor_slots_[s][k]; }
+  const std::vector<std::vector<int>>& anchorOriginSlots(int s) const { return anchor_slots_[s]; }
   // The widest θ-Jacobian of one reading (columns).
   int thetaWidthMax() const { return theta_width_; }
 

@@ -132,12 +132,15 @@ bool OriginPriorCost::Evaluate(double const* const* p, double* residuals, double
 
 ScalarReadingCost::ScalarReadingCost(const RobotModel& robot, const KinematicsCache& cache,
                                      int frame, const JointSensorConfig* joint,
-                                     const TendonSensorConfig* tendon, double p, double sigma)
+                                     const TendonSensorConfig* tendon, double p, double sigma,
+                                     std::vector<int> origins,
+                                     std::vector<std::vector<int>> anchor_slots)
     : robot_(robot), cache_(cache), frame_(frame), joint_(joint), tendon_(tendon), p_(p),
-      inv_(1.0 / sigma) {
+      inv_(1.0 / sigma), origins_(std::move(origins)), anchor_slots_(std::move(anchor_slots)) {
   assert((joint == nullptr) != (tendon == nullptr));
   set_num_residuals(1);
   *mutable_parameter_block_sizes() = {robot.dof(), 2};
+  for (size_t i = 0; i < origins_.size(); ++i) mutable_parameter_block_sizes()->push_back(6);
 }
 
 ceres::CostFunction* ScalarReadingCost::Create(const RobotModel& robot,
@@ -176,6 +179,11 @@ bool ScalarReadingCost::Evaluate(double const* const* p, double* residuals,
     jac[1][0] = inv_ * value;
     jac[1][1] = inv_;
   }
+  if (origins_.empty()) return true;
+  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(6 * origins_.size());
+  tendon_sensor::addOriginLengthJacobian(*tendon_, ws, origins_, anchor_slots_, inv_ * gain, row);
+  for (size_t i = 0; i < origins_.size(); ++i)
+    if (jac[2 + i]) std::copy(row.data() + 6 * i, row.data() + 6 * i + 6, jac[2 + i]);
   return true;
 }
 

@@ -115,11 +115,17 @@ class OriginPriorCost : public ceres::SizedCostFunction<6, 6> {
 //   dr/d(g, b) = (v, 1) / σ
 //
 // Exactly one of joint and tendon is set. Tendon lengths read the cache.
+//
+// A path whose anchors joint-origin corrections move (`origins`, indices of
+// the cache's corrections; `anchor_slots[k]`, those of anchor k as
+// positions in `origins`) has one more block of 6 per correction c:
+//   dr/dc = g dL/dc / σ          (sensor_models.hpp addOriginLengthJacobian)
 class ScalarReadingCost : public ceres::CostFunction {
  public:
   ScalarReadingCost(const RobotModel& robot, const KinematicsCache& cache, int frame,
                     const JointSensorConfig* joint, const TendonSensorConfig* tendon, double p,
-                    double sigma);
+                    double sigma, std::vector<int> origins = {},
+                    std::vector<std::vector<int>> anchor_slots = {});
 
   static ceres::CostFunction* Create(const RobotModel& robot, const KinematicsCache& cache,
                                      int frame, const JointSensorConfig* joint,
@@ -134,6 +140,8 @@ class ScalarReadingCost : public ceres::CostFunction {
   const JointSensorConfig* joint_;
   const TendonSensorConfig* tendon_;
   double p_, inv_;
+  std::vector<int> origins_;
+  std::vector<std::vector<int>> anchor_slots_;
 };
 
 }  // namespace stac::monolithic

@@ -17,7 +17,6 @@
 #include <array>
 #include <cmath>
 #include <memory>
-#include <stdexcept>
 
 #include "methods/monolithic.hpp"
 #include "methods/monolithic_costs.hpp"
@@ -116,10 +115,14 @@ void addFrame(const MeasurementModel& model, const NoiseModel& noise, const Obse
   for (size_t s = 0; s < sensors.tendon_sensors.size(); ++s) {
     const double p = obs.tendon(t, s);
     if (std::isnan(p)) continue;
+    const int si = static_cast<int>(s);
+    std::vector<double*> blocks = {qt, theta->tendon(s)};
+    for (int c : model.tendonOrigins(si)) blocks.push_back(theta->origin(c));
     problem->AddResidualBlock(new ScalarReadingCost(robot, cache, t, nullptr,
-                                                    &sensors.tendon_sensors[s], p,
-                                                    noise.tendon[s]),
-                              loss, qt, theta->tendon(s));
+                                                    &sensors.tendon_sensors[s], p, noise.tendon[s],
+                                                    model.tendonOrigins(si),
+                                                    model.anchorOriginSlots(si)),
+                              loss, blocks);
   }
   if (problem->HasParameterBlock(qt)) order->AddElementToGroup(qt, 0);
 }
@@ -189,12 +192,6 @@ void solveMonolithic(const MeasurementModel& model, const NoiseModel& noise,
                        const CalibrationOptions& options, SensorParameters* theta,
                        QState* state, int* iterations, bool* converged) {
   const int threads = resolveThreads(options.threads);
-  for (size_t s = 0; s < model.sensors().tendon_sensors.size(); ++s)
-    if (!model.tendonOrigins(static_cast<int>(s)).empty())
-      throw std::invalid_argument("--method joint: tendon sensor " +
-                                  model.sensors().tendon_sensors[s].name +
-                                  " has anchors moved by joint-origin corrections, which only "
-                                  "--method stac estimates");
   ThetaBlocks blocks(*theta);
   auto cache = std::make_unique<KinematicsCache>(
       model.robot(), &state->q, threads, model.thetaSpace().originLinks(),

@@ -211,29 +211,15 @@ void tendonOriginJacobian(const MeasurementModel& model, int s, const Kinematics
                           double scale, ReadingJacobian* rj) {
   const std::vector<int>& origins = model.tendonOrigins(s);
   if (origins.empty()) return;
-  const TendonSensorConfig& sc = model.sensors().tendon_sensors[s];
-  const int first = rj->theta_count;
-  rj->Jtheta.block(0, first, 3, 6 * origins.size()).setZero();
+  const int first = rj->theta_count, width = 6 * static_cast<int>(origins.size());
   for (size_t i = 0; i < origins.size(); ++i)
     for (int k = 0; k < 6; ++k)
       rj->theta_index[first + 6 * i + k] = model.thetaSpace().originOffset(origins[i]) + k;
-  for (size_t k = 0; k + 1 < sc.path.size(); ++k) {
-    const Eigen::Vector3d a = kin.link_pose[sc.path[k].link] * sc.path[k].point;
-    const Eigen::Vector3d b = kin.link_pose[sc.path[k + 1].link] * sc.path[k + 1].point;
-    const double n = (b - a).norm();
-    if (n < 1e-12) continue;  // coincident anchors: L is not differentiable
-    const Eigen::RowVector3d u = (b - a).transpose() / n;
-    for (int end = 0; end < 2; ++end) {
-      const int anchor = static_cast<int>(k) + end;
-      const Eigen::Vector3d& point = end ? b : a;
-      for (int slot : model.anchorOriginSlots(s, anchor)) {
-        Eigen::Matrix<double, 3, 6> J = Eigen::Matrix<double, 3, 6>::Zero();
-        addOriginJacobian(kin, origins[slot], point, 1.0, J);
-        rj->Jtheta.block<1, 6>(0, first + 6 * slot) += (end ? scale : -scale) * (u * J);
-      }
-    }
-  }
-  rj->theta_count += 6 * static_cast<int>(origins.size());
+  rj->Jtheta.block(0, first, 3, width).setZero();
+  tendon_sensor::addOriginLengthJacobian(model.sensors().tendon_sensors[s], kin, origins,
+                                         model.anchorOriginSlots(s), scale,
+                                         rj->Jtheta.row(0).segment(first, width));
+  rj->theta_count += width;
 }
 
 // A linear sensor's reading p of `value`: r = (g value + b - p) w / σ and
