@@ -287,11 +287,11 @@ double heldOutMarkerError(const RobotModel& robot, const CalibrationResult& r,
 
 // From the paper's seeding (`stac`), or (`joint`, which needs a start near
 // the optimum: from the paper's seeding it ends in a wrong minimum with or
-// without corrections) from the true sensor parameters and joint angles
-// with the URDF's origins.
+// without corrections; `classical`, which needs a manual calibration) from
+// the true sensor parameters (and joint angles) with the URDF's origins.
 void expectTruthRecovered(const Method method) {
   Ur5Truth t;
-  if (method == Method::kMonolithic) {
+  if (method != Method::kStac) {
     t.seed.theta = t.truth.theta;
     t.seed.theta.joint_origin.clear();
   }
@@ -338,7 +338,11 @@ TEST(JointOrigins, JointMethodRecoversSimulatedUr5Origins) {
   expectTruthRecovered(Method::kMonolithic);
 }
 
-TEST(JointOrigins, BaselinesRefuse) {
+TEST(JointOrigins, ClassicalRecoversSimulatedUr5Origins) {
+  expectTruthRecovered(Method::kClassical);
+}
+
+TEST(JointOrigins, EkfRefuses) {
   Ur5Truth t;
   SensorsFile seed = t.seed;
   addJointOrigins(t.robot, {"elbow_joint"}, &seed);
