@@ -9,6 +9,7 @@
 
 #include "common/calib_report.hpp"
 #include "common/cli.hpp"
+#include "common/inputs.hpp"
 #include "common/outputs.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/error.hpp"
@@ -66,6 +67,7 @@ const std::vector<cli::Option> kOptions = {
      "prior std of the joint-origin corrections, metres and radians (default 0.005,0.01)"},
     {"holdout", "F", "keep the last fraction F of the frames (0 < F < 1) out of the fit and print "
                      "the cross-sensor prediction table on them"},
+    cli::ignoreColumnsOption(),
     {"quiet", "", "no progress lines on stderr"},
 };
 
@@ -285,11 +287,9 @@ int run(const cli::Args& args) {
   const RobotModel robot = RobotModel::fromFile(urdf);
   const Log log = readLog(log_path);
   requireDataRows(log);  // before inference, which would only complain about the header
-  SensorsFile sf = sensors_path.empty() ? inferSensorsFromLog(log, robot)
-                                        : loadSensorsFile(sensors_path, robot);
+  SensorsFile sf = cli::sensorsForLog(args, sensors_path, robot, log);
   applyOriginOptions(args, robot, &sf);
-  const Observations all =
-      bindLog(log, sf.sensors, sensors_path.empty() ? log_path : sensors_path, mocap_scale);
+  const Observations all = cli::bindSensors(log, sf, sensors_path, mocap_scale);
   if (!ekf_q_path.empty()) options.ekf.initial_q = firstJointAngles(readLog(ekf_q_path), robot);
   requireReadings(all, sf.sensors, log_path, ReadingCheck::kEverySensor);
   const int test_frames = holdoutFrames(holdout, args, all.num_frames, log_path);

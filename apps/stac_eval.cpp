@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
+#include "common/inputs.hpp"
 #include "common/outputs.hpp"
 #include "stac/error.hpp"
 #include "stac/evaluate.hpp"
@@ -25,6 +26,7 @@ const std::vector<cli::Option> kOptions = {
     {"truth", "FILE", "true sensors file: also print each parameter's error"},
     {"json", "FILE", "also write the numbers as JSON"},
     {"mocap-units", "m|mm", "unit of the marker columns (default m)"},
+    cli::ignoreColumnsOption(),
     {"threads", "N", "worker threads; 0 = all cores (default)"},
 };
 
@@ -81,7 +83,8 @@ int run(const cli::Args& args) {
   if (args.has("json")) cli::checkOutputs(inputs, {{"--json", json_path}});
 
   const RobotModel robot = RobotModel::fromFile(urdf);
-  const SensorsFile sf = loadSensorsFile(sensors_path, robot);
+  SensorsFile sf = loadSensorsFile(sensors_path, robot);
+  ignoreColumns(&sf, cli::ignoredColumns(args), "--ignore-columns", sensors_path);
   for (int g = 0; g < kNumSensorGroups; ++g) {
     const std::string name = groupName(static_cast<SensorGroup>(g));
     if (options.use[g] && groupCount(sf.sensors, g) == 0)
@@ -97,7 +100,7 @@ int run(const cli::Args& args) {
     truth = compareToTruth(sf.sensors, sf.theta, tf.sensors, tf.theta, truth_path);
   }
   const Log log = readLog(log_path);
-  const Observations obs = bindLog(log, sf.sensors, sensors_path, mocap_scale);
+  const Observations obs = cli::bindSensors(log, sf, sensors_path, mocap_scale);
   requireReadings(obs, sf.sensors, log_path, ReadingCheck::kAnyFrame);
 
   const EvaluationResult result = evaluatePrediction(robot, sf.sensors, sf.theta, obs, options);

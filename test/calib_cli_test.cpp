@@ -191,12 +191,16 @@ TEST_F(CalibCli, MocapUnitsMillimetres) {
 // ---- Without a sensors file ----
 
 TEST_F(CalibCli, InferenceNamesTheClosestJointOrLink) {
-  test::writeFile(file("infer.csv"), "time,j1,j2,j3,j4,l4.x,l4.y,l4.z,elbow2\n0,0,0,0,0,0,0,0,0\n");
+  test::writeFile(file("infer.csv"),
+                  "time,j1,j2,j3,l4.x,l4.y,l4.z,elbow2,j_4\n0,0,0,0,0,0,0,0,0\n");
   const auto r = calib("--log " + file("infer.csv") + " --output " + file("out.yaml"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find(file("infer.csv") + ":1"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("elbow2"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("closest joint or link"), std::string::npos) << r.err;
+  // A hint only when a name is close (issue 15: no "x1 -> base_link").
+  EXPECT_NE(r.err.find("elbow2 (no joint or link name is close)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("j_4 (closest joint or link: joint 'j4'; did you mean 'j4'?)"),
+            std::string::npos)
+      << r.err;
 }
 
 // ---- SPEC §3: the sensors file ----

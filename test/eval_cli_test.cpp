@@ -83,7 +83,10 @@ TEST_F(EvalCli, TrueParametersPredictAtTheNoiseAndTheJsonHasTheContract) {
   EXPECT_NE(r.out.find("estimated from joint,tendon"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("mocap.rotation"), std::string::npos) << r.out;
   EXPECT_EQ(jsonValue(json, "sorted(d.keys())"),
-            "['frames', 'mae', 'per_sensor', 'truth', 'use']");
+            "['frames', 'frames_at_limit', 'mae', 'per_sensor', 'truth', 'use']");
+  // The truth keeps every joint inside its limits: nothing clamped.
+  EXPECT_EQ(jsonValue(json, "d['frames_at_limit']"), "{'frames': 0, 'joints': {}}");
+  EXPECT_EQ(r.out.find("held at its limit"), std::string::npos) << r.out;
   EXPECT_EQ(jsonValue(json, "d['frames']"), "400");
   EXPECT_EQ(jsonValue(json, "d['use']"), "['joint', 'tendon']");
   EXPECT_EQ(jsonValue(json, "sorted(d['mae'].keys())"), "['joint', 'marker', 'tendon']");
@@ -99,6 +102,26 @@ TEST_F(EvalCli, TrueParametersPredictAtTheNoiseAndTheJsonHasTheContract) {
   // The calibration is the truth: every parameter error is 0.
   EXPECT_EQ(jsonValue(json, "len(d['truth'])"), "17");
   EXPECT_LT(jsonNumber(json, "max(abs(v) for v in d['truth'].values())"), 1e-12);
+}
+
+// A pot whose gain is 5x too small asks for 5x the angles: the estimate of q
+// stops at the joint's limit (widened by 5%), and the report says so rather
+// than clamping silently.
+TEST_F(EvalCli, FramesClampedAtAJointLimitAreReported) {
+  std::string text = test::kArmTruth;
+  const std::string from = "gain: -1.5,", to = "gain: -0.3,";
+  ASSERT_NE(text.find(from), std::string::npos);
+  text.replace(text.find(from), from.size(), to);
+  const std::string bad = dir_.file("small_gain.yaml"), json = dir_.file("clamped.json");
+  writeFile(bad, text);
+  const CommandResult r = eval(base(bad) + " --use joint --json " + json);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const int clamped = std::stoi(jsonValue(json, "d['frames_at_limit']['frames']"));
+  EXPECT_GT(clamped, 40) << r.out;   // the motion sweeps most of j1's range
+  EXPECT_LE(clamped, 400);
+  EXPECT_EQ(jsonValue(json, "list(d['frames_at_limit']['joints'].keys())"), "['j1']");
+  EXPECT_NE(r.out.find("frames have a joint held at its limit"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" j1 ("), std::string::npos) << r.out;
 }
 
 TEST_F(EvalCli, SeedParametersAreFarWorseAndTruthErrorsShowIt) {

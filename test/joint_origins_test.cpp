@@ -233,7 +233,11 @@ struct Ur5Truth {
     std::uniform_real_distribution<double> u(-1, 1), mag(1, 3), deg(0.1, 0.5);
     auto sign = [&]() { return u(rng) < 0 ? -1.0 : 1.0; };
     for (const char* l : {"forearm_link", "wrist_2_link", "wrist_3_link"}) {
-      MarkerConfig m{std::string("m_") + l, l, *robot.linkIndex(l), 0.0005, false, false};
+      MarkerConfig m;
+      m.name = std::string("m_") + l;
+      m.link_name = l;
+      m.link = *robot.linkIndex(l);
+      m.sigma = 0.0005;
       truth.sensors.markers.push_back(m);
       truth.theta.marker_position.push_back(0.05 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
     }

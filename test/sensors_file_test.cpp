@@ -285,7 +285,11 @@ TEST(SensorsFile, WrittenRpyMatchesTheRotationNearGimbalLock) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> angle(-M_PI, M_PI);
   SensorSet s;
-  s.markers.push_back({"a", "tool", *model().linkIndex("tool")});
+  MarkerConfig a;
+  a.name = "a";
+  a.link_name = "tool";
+  a.link = *model().linkIndex("tool");
+  s.markers.push_back(a);
   SensorParameters th;
   th.marker_position.push_back(Eigen::Vector3d::Zero());
   for (double sign : {1.0, -1.0}) {
@@ -349,6 +353,7 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
     mc.fixed = rng() % 2;
     mc.sigma_overridden = i % 2 == 1;
     mc.sigma = mc.sigma_overridden ? randomSigma(rng) : s.mocap_sigma;
+    if (i == 2) mc.columns = {"x1", "y1", "p@l_forearm.z"};  // SPEC §3 `columns:`
     s.markers.push_back(mc);
     th.marker_position.emplace_back(randomValue(rng), randomValue(rng), randomValue(rng));
   }
@@ -360,6 +365,7 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
     c.joint = *m.movableJointIndex(c.joint_name);
     c.sigma = randomSigma(rng);
     c.fixed = {rng() % 2 == 1, rng() % 2 == 1};
+    if (i == 1) c.column = "enc 2";  // SPEC §3 `column:`
     s.joint_sensors.push_back(c);
     th.joint_sensor.push_back({randomValue(rng), randomValue(rng)});
   }
@@ -368,6 +374,7 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
     c.name = "cyl_" + std::to_string(i);
     c.sigma = randomSigma(rng);
     c.fixed = {rng() % 2 == 1, rng() % 2 == 1};
+    if (i == 0) c.column = "cylinder_0";
     if (i < 2) {
       for (const char* l : {"torso", "head", "l_upper"}) {
         PathAnchor a;
@@ -384,6 +391,7 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
     s.tendon_sensors.push_back(c);
     th.tendon_sensor.push_back({randomValue(rng), randomValue(rng)});
   }
+  s.ignore_columns = {"sample_id", "t_robot"};
   th.mocap.translation = Eigen::Vector3d(randomValue(rng), randomValue(rng), randomValue(rng));
   std::normal_distribution<double> n;
   th.mocap.rotation = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
@@ -424,6 +432,7 @@ void expectSameSensors(const SensorsFile& f, const SensorSet& s, const SensorPar
   EXPECT_TRUE(sameBits(b.mocap_sigma, s.mocap_sigma));
   EXPECT_EQ(b.mocap_frame_fixed.rotation, s.mocap_frame_fixed.rotation);
   EXPECT_EQ(b.mocap_frame_fixed.translation, s.mocap_frame_fixed.translation);
+  EXPECT_EQ(b.ignore_columns, s.ignore_columns);
   ASSERT_EQ(b.markers.size(), s.markers.size());
   for (size_t i = 0; i < s.markers.size(); ++i) {
     EXPECT_EQ(b.markers[i].name, s.markers[i].name);
@@ -432,6 +441,7 @@ void expectSameSensors(const SensorsFile& f, const SensorSet& s, const SensorPar
     EXPECT_TRUE(sameBits(b.markers[i].sigma, s.markers[i].sigma)) << i;
     EXPECT_EQ(b.markers[i].sigma_overridden, s.markers[i].sigma_overridden) << i;
     EXPECT_EQ(b.markers[i].fixed, s.markers[i].fixed);
+    EXPECT_EQ(b.markers[i].logColumns(), s.markers[i].logColumns()) << i;
     for (int k = 0; k < 3; ++k)
       EXPECT_TRUE(sameBits(f.theta.marker_position[i][k], th.marker_position[i][k]));
   }
@@ -440,6 +450,7 @@ void expectSameSensors(const SensorsFile& f, const SensorSet& s, const SensorPar
     EXPECT_EQ(b.joint_sensors[i].name, s.joint_sensors[i].name);
     EXPECT_EQ(b.joint_sensors[i].joint_name, s.joint_sensors[i].joint_name);
     EXPECT_EQ(b.joint_sensors[i].joint, s.joint_sensors[i].joint);
+    EXPECT_EQ(b.joint_sensors[i].logColumn(), s.joint_sensors[i].logColumn());
     EXPECT_TRUE(sameBits(b.joint_sensors[i].sigma, s.joint_sensors[i].sigma));
     EXPECT_EQ(b.joint_sensors[i].fixed.gain, s.joint_sensors[i].fixed.gain);
     EXPECT_EQ(b.joint_sensors[i].fixed.bias, s.joint_sensors[i].fixed.bias);
@@ -450,6 +461,7 @@ void expectSameSensors(const SensorsFile& f, const SensorSet& s, const SensorPar
   for (size_t i = 0; i < s.tendon_sensors.size(); ++i) {
     const TendonSensorConfig &x = b.tendon_sensors[i], &y = s.tendon_sensors[i];
     EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.logColumn(), y.logColumn());
     EXPECT_EQ(x.kind, y.kind);
     EXPECT_TRUE(sameBits(x.sigma, y.sigma));
     EXPECT_EQ(x.fixed.gain, y.fixed.gain);

@@ -61,6 +61,14 @@ struct EvaluationResult {
   std::vector<SensorPredictionError> sensors;  // predicted groups only, in
                                                // marker, joint, tendon order
   RowMatrix q;                                 // frames x dof, the estimate
+  // q is bounded by the joint limits widened by 5% of the range (as in
+  // calibration): a joint estimated at that bound was clamped, its
+  // readings asking for an angle the URDF rules out, and the predictions
+  // of that frame carry the difference. Per joint of q, the frames at a
+  // bound; and the frames with some joint at one.
+  std::vector<int> frames_at_limit;
+  std::vector<std::string> q_names;  // the joints of q, for reports
+  int frames_clamped = 0;
 };
 
 // Throws std::invalid_argument if the options are invalid, a used group has

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -55,12 +56,26 @@ struct Observations {
 // only, or nothing but empty lines and comments after it).
 void requireDataRows(const Log& log);
 
+// Where a sensors file names a log column, so that an error about the
+// column points there: the key ("joint_sensors[2].column", or the name's
+// key for a default column) and its line; `mapped` when the key is a
+// `column:`/`columns:` entry rather than the sensor's name.
+struct ColumnKey {
+  std::string key;
+  int line = 0;
+  bool mapped = false;
+};
+using ColumnKeys = std::map<std::string, ColumnKey>;  // log column -> its key
+
 // mocap_scale multiplies marker columns (0.001 for --mocap-units mm).
-// Every log column must belong to a sensor and every sensor must have its
-// column(s): either mismatch throws an InputError naming both files. A log
-// without data rows throws as requireDataRows does.
+// Every log column must belong to a sensor or be in sensors.ignore_columns,
+// and every sensor must have its column(s): either mismatch throws an
+// InputError naming both files (at the key and line in `keys`, when a
+// `column:` names a column the log lacks). A column both read and ignored
+// throws too. A log without data rows throws as requireDataRows does.
 Observations bindLog(const Log& log, const SensorSet& sensors,
-                     const std::string& sensors_source, double mocap_scale);
+                     const std::string& sensors_source, double mocap_scale,
+                     const ColumnKeys& keys = {});
 
 // What must hold of the readings for a use of the observations:
 //   kAnyFrame     at least one frame with a reading (evaluation);

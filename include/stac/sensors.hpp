@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,10 @@ struct MarkerConfig {
   double sigma = 0.002;      // metres (mocap.sigma unless overridden)
   bool sigma_overridden = false;
   bool fixed = false;
+  // The log columns of x, y, z when they are not <name>.x/.y/.z (SPEC §3
+  // `columns:`); empty strings for the default.
+  std::array<std::string, 3> columns;
+  std::array<std::string, 3> logColumns() const;
 };
 
 struct JointSensorConfig {
@@ -61,6 +66,8 @@ struct JointSensorConfig {
   int joint = -1;            // RobotModel movable joint index (may be mimic)
   double sigma = 0.01;
   FixedGainBias fixed;
+  std::string column;  // the log column when not `name` (SPEC §3 `column:`)
+  const std::string& logColumn() const { return column.empty() ? name : column; }
 };
 
 struct PathAnchor {
@@ -83,6 +90,8 @@ struct TendonSensorConfig {
   std::vector<CouplingTerm> coupling;  // kCoupling
   double sigma = 0.01;
   FixedGainBias fixed;
+  std::string column;  // the log column when not `name` (SPEC §3 `column:`)
+  const std::string& logColumn() const { return column.empty() ? name : column; }
 };
 
 struct SensorSet {
@@ -94,6 +103,8 @@ struct SensorSet {
   // Kinematic calibration (optional): the joints whose <origin> is corrected.
   std::vector<JointOriginConfig> joint_origins;
   OriginPrior origin_prior;
+  // Log columns that belong to no sensor (SPEC §3 `ignore_columns:`).
+  std::vector<std::string> ignore_columns;
 
   bool hasMarkers() const { return !markers.empty(); }
 };

@@ -14,6 +14,7 @@ namespace stac {
 struct SensorsFile {
   SensorSet sensors;
   SensorParameters theta;
+  ColumnKeys column_keys;  // where the file names each log column (empty if inferred)
 };
 
 // Throws InputError(file, line, 0, "...key...") for every error in SPEC §3.
@@ -35,9 +36,18 @@ std::string sensorsToYaml(const SensorSet& sensors,
 void addJointOrigins(const RobotModel& model, const std::vector<std::string>& joints,
                      SensorsFile* file);
 
-// SPEC §3 "Without a sensors file": infers sensors from the log header.
+// Adds `columns` (e.g. --ignore-columns, named by `origin` in messages) to
+// the columns the sensors ignore. Throws InputError(sensors_source, ...) if
+// a sensor reads one of them.
+void ignoreColumns(SensorsFile* sf, const std::vector<std::string>& columns,
+                   const std::string& origin, const std::string& sensors_source);
+
+// SPEC §3 "Without a sensors file": infers sensors from the log header,
+// leaving out the columns in `ignore` (which the result then ignores).
 // Throws InputError naming the log and listing unplaceable columns with the
-// closest joint or link name.
-SensorsFile inferSensorsFromLog(const Log& log, const RobotModel& model);
+// closest joint or link name when one is close; an <marker>@<link> column
+// naming no link is an error too.
+SensorsFile inferSensorsFromLog(const Log& log, const RobotModel& model,
+                                const std::vector<std::string>& ignore = {});
 
 }  // namespace stac

@@ -72,6 +72,9 @@ class ThetaSpace {
   const std::vector<int>& freeIndex() const { return free_index_; }
   const std::vector<int>& freePosition() const { return free_position_; }
   int freeSize() const { return static_cast<int>(free_index_.size()); }
+  // The free entries that shape one sensor group's predictions (the mocap
+  // frame and markers for kMarker): the degrees of freedom θ spends on it.
+  int freeInGroup(SensorGroup g) const;
 
   // θ ⊕ δ, δ over all entries (size()).
   SensorParameters plus(const SensorParameters& theta, const Eigen::VectorXd& delta) const;

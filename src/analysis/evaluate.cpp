@@ -83,6 +83,32 @@ bool EvaluationOptions::isValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// A joint within a micro-radian (or micrometre) of its widened bound.
+void countFramesAtLimit(const RobotModel& robot, EvaluationResult* r) {
+  Eigen::VectorXd lower, upper;
+  widenedLimits(robot, &lower, &upper);
+  r->frames_at_limit.assign(robot.dof(), 0);
+  r->q_names.clear();
+  for (int j = 0; j < robot.dof(); ++j)
+    r->q_names.push_back(robot.movableJoints()[robot.qJoints()[j]].name);
+  r->frames_clamped = 0;
+  for (int t = 0; t < r->q.rows(); ++t) {
+    bool any = false;
+    for (int j = 0; j < robot.dof(); ++j) {
+      const double q = r->q(t, j);
+      const bool at = upper[j] > lower[j] && ( (std::isfinite(lower[j]) && q <= lower[j] + 1e-6) ||
+                      (std::isfinite(upper[j]) && q >= upper[j] - 1e-6));
+      r->frames_at_limit[j] += at;
+      any |= at;
+    }
+    r->frames_clamped += any;
+  }
+}
+
+}  // namespace
+
 EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& sensors,
                                     const SensorParameters& theta, const Observations& obs,
                                     const EvaluationOptions& options) {
@@ -107,6 +133,7 @@ EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& se
   EvaluationResult result;
   result.frames = T;
   result.q = T > 0 ? estimateQ(model, theta, obs, options) : RowMatrix(0, robot.dof());
+  countFramesAtLimit(robot, &result);
 
   // Absolute errors of every reading (NaN where missing), frames x sensors.
   RowMatrix err_marker = RowMatrix::Constant(T, M, kNaN);
@@ -292,6 +319,14 @@ std::string evaluationReport(const EvaluationResult& r, const std::vector<Parame
     row += buf;
   }
   o << head << "\n" << row << "\n";
+  if (r.frames_clamped > 0) {
+    o << "\nwarning: " << r.frames_clamped << " of " << r.frames
+      << " frames have a joint held at its limit (the URDF's widened by 5%): their readings ask "
+         "for angles the URDF rules out, and their predictions carry the difference:";
+    for (size_t j = 0; j < r.frames_at_limit.size(); ++j)
+      if (r.frames_at_limit[j] > 0) o << " " << r.q_names[j] << " (" << r.frames_at_limit[j] << ")";
+    o << "\n";
+  }
   if (!r.sensors.empty()) {
     o << "\nper sensor                          MAE     readings\n";
     for (const SensorPredictionError& s : r.sensors) {
@@ -339,6 +374,14 @@ std::string evaluationJson(const EvaluationResult& r, const std::vector<Paramete
     first = false;
   }
   o << (first ? "}" : "\n  }");
+  o << ",\n  \"frames_at_limit\": {\"frames\": " << r.frames_clamped << ", \"joints\": {";
+  first = true;
+  for (size_t j = 0; j < r.frames_at_limit.size(); ++j) {
+    if (r.frames_at_limit[j] == 0) continue;
+    o << (first ? "" : ", ") << jsonString(r.q_names[j]) << ": " << r.frames_at_limit[j];
+    first = false;
+  }
+  o << "}}";
   if (truth) {
     o << ",\n  \"truth\": {";
     first = true;

@@ -150,10 +150,10 @@ namespace {
 // `frames` rows.
 Log emptyLog(const SensorSet& sensors, int frames) {
   Log log;
-  for (const JointSensorConfig& s : sensors.joint_sensors) log.columns.push_back(s.name);
-  for (const TendonSensorConfig& s : sensors.tendon_sensors) log.columns.push_back(s.name);
+  for (const JointSensorConfig& s : sensors.joint_sensors) log.columns.push_back(s.logColumn());
+  for (const TendonSensorConfig& s : sensors.tendon_sensors) log.columns.push_back(s.logColumn());
   for (const MarkerConfig& m : sensors.markers)
-    for (const char* axis : {".x", ".y", ".z"}) log.columns.push_back(m.name + axis);
+    for (const std::string& c : m.logColumns()) log.columns.push_back(c);
   log.time_name = "time";
   log.time.resize(frames);
   log.values.resize(frames, sensors.joint_sensors.size() + sensors.tendon_sensors.size() +

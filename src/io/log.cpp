@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <map>
 #include <set>
 #include <stdexcept>
 #include <string_view>
@@ -290,121 +289,6 @@ void writeLog(const std::string& path, const Log& log) {
     out += '\n';
   }
   writeFileAtomically(path, out);
-}
-
-namespace {
-
-// The log's columns by name, handed out to the sensors that read them. It
-// notes what was taken and what the log lacks, so that one error can list
-// every mismatch at once.
-class ColumnTaker {
- public:
-  explicit ColumnTaker(const std::vector<std::string>& columns) {
-    for (size_t c = 0; c < columns.size(); ++c) column_[columns[c]] = static_cast<int>(c);
-  }
-
-  // The column's index, or -1 (and the name noted as missing).
-  int take(const std::string& name) {
-    auto it = column_.find(name);
-    if (it == column_.end()) {
-      missing_.push_back(name);
-      return -1;
-    }
-    used_.insert(name);
-    return it->second;
-  }
-
-  const std::vector<std::string>& missing() const { return missing_; }
-
-  std::vector<std::string> unused(const std::vector<std::string>& columns) const {
-    std::vector<std::string> extra;
-    for (const std::string& c : columns)
-      if (!used_.count(c)) extra.push_back(c);
-    return extra;
-  }
-
- private:
-  std::map<std::string, int> column_;
-  std::set<std::string> used_;
-  std::vector<std::string> missing_;
-};
-
-// Marker m's x, y, z into columns 3m..3m+2 of *out, in metres; a marker
-// missing any coordinate is missing as a whole (SPEC §2).
-void bindMarkers(const Log& log, const std::vector<MarkerConfig>& markers, double mocap_scale,
-                 ColumnTaker& columns, RowMatrix* out) {
-  for (size_t m = 0; m < markers.size(); ++m) {
-    const int cx = columns.take(markers[m].name + ".x");
-    const int cy = columns.take(markers[m].name + ".y");
-    const int cz = columns.take(markers[m].name + ".z");
-    if (cx < 0 || cy < 0 || cz < 0) continue;
-    for (int t = 0; t < log.numFrames(); ++t) {
-      const double x = log.values(t, cx), y = log.values(t, cy), z = log.values(t, cz);
-      const bool miss = std::isnan(x) || std::isnan(y) || std::isnan(z);
-      const double nan = std::numeric_limits<double>::quiet_NaN();
-      (*out)(t, 3 * m) = miss ? nan : x * mocap_scale;
-      (*out)(t, 3 * m + 1) = miss ? nan : y * mocap_scale;
-      (*out)(t, 3 * m + 2) = miss ? nan : z * mocap_scale;
-    }
-  }
-}
-
-// Joint or tendon sensors: one column each, sensor s into column s of *out.
-// Element by element: no Eigen column of a matrix that may have no rows.
-template <class SensorConfig>
-void bindScalarSensors(const Log& log, const std::vector<SensorConfig>& sensors,
-                       ColumnTaker& columns, RowMatrix* out) {
-  for (size_t s = 0; s < sensors.size(); ++s) {
-    const int c = columns.take(sensors[s].name);
-    if (c < 0) continue;
-    for (int t = 0; t < log.numFrames(); ++t) (*out)(t, s) = log.values(t, c);
-  }
-}
-
-// Names for an error message, cut short so that a wide log stays readable.
-std::string nameList(const std::vector<std::string>& v) {
-  constexpr size_t kShown = 30;
-  std::string s;
-  for (size_t i = 0; i < v.size() && i < kShown; ++i) s += (i ? ", " : "") + v[i];
-  if (v.size() > kShown) s += ", ... (" + std::to_string(v.size()) + " in all)";
-  return s;
-}
-
-// Both directions of a log/sensors mismatch in one sentence; "" if none.
-std::string columnMismatch(const std::vector<std::string>& missing,
-                           const std::vector<std::string>& extra,
-                           const std::string& sensors_source) {
-  std::string problem;
-  if (!missing.empty())
-    problem = "the log has no column for " + nameList(missing) + " (sensors defined in " +
-              sensors_source + ")";
-  if (!extra.empty())
-    problem += (problem.empty() ? "" : "; ") + std::string("column(s) ") + nameList(extra) +
-               " belong to no sensor in " + sensors_source;
-  return problem;
-}
-
-}  // namespace
-
-Observations bindLog(const Log& log, const SensorSet& sensors, const std::string& sensors_source,
-                     double mocap_scale) {
-  const int T = log.numFrames();
-  Observations obs;
-  obs.num_frames = T;
-  obs.time = log.time;
-  obs.time_name = log.time_name;
-  obs.marker.resize(T, 3 * static_cast<Eigen::Index>(sensors.markers.size()));
-  obs.joint.resize(T, static_cast<Eigen::Index>(sensors.joint_sensors.size()));
-  obs.tendon.resize(T, static_cast<Eigen::Index>(sensors.tendon_sensors.size()));
-  ColumnTaker columns(log.columns);
-  bindMarkers(log, sensors.markers, mocap_scale, columns, &obs.marker);
-  bindScalarSensors(log, sensors.joint_sensors, columns, &obs.joint);
-  bindScalarSensors(log, sensors.tendon_sensors, columns, &obs.tendon);
-  const std::string problem =
-      columnMismatch(columns.missing(), columns.unused(log.columns), sensors_source);
-  if (!problem.empty()) throw InputError(log.path, log.header_line, 0, problem);
-  requireDataRows(log);  // after the header's check, which has more to say
-  return obs;
 }
 
 Observations sliceFrames(const Observations& obs, int begin, int end) {

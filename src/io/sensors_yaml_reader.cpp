@@ -5,48 +5,20 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstdlib>
-#include <limits>
 #include <map>
 #include <optional>
 #include <set>
 #include <sstream>
-#include <string_view>
 
 #include "io/rpy.hpp"
 #include "io/yaml_guard.hpp"
+#include "io/yaml_number.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
 
 namespace stac {
 namespace {
-
-// A YAML plain scalar as a double: decimal and exponent forms of YAML 1.1
-// and 1.2 ("1", "1.0", "1e-05", "1.0e-05", "+2."), and .inf/.nan.
-std::optional<double> parseNumber(const std::string& s) {
-  std::string_view v(s);
-  bool negative = false;
-  if (!v.empty() && (v.front() == '+' || v.front() == '-')) {
-    negative = v.front() == '-';
-    v.remove_prefix(1);
-  }
-  if (v == ".inf" || v == ".Inf" || v == ".INF")
-    return negative ? -std::numeric_limits<double>::infinity()
-                    : std::numeric_limits<double>::infinity();
-  if (v == ".nan" || v == ".NaN" || v == ".NAN") return std::numeric_limits<double>::quiet_NaN();
-  if (v.empty() || !(std::isdigit(static_cast<unsigned char>(v.front())) || v.front() == '.'))
-    return std::nullopt;
-  double x = 0;
-  const auto res = std::from_chars(v.data(), v.data() + v.size(), x);
-  if (res.ptr != v.data() + v.size()) return std::nullopt;
-  if (res.ec == std::errc::result_out_of_range)  // underflow -> 0 or subnormal, overflow -> inf
-    x = std::strtod(std::string(v).c_str(), nullptr);
-  else if (res.ec != std::errc())
-    return std::nullopt;
-  return negative ? -x : x;
-}
 
 bool isTimeName(const std::string& s) { return s == "time" || s == "t" || s == "timestamp"; }
 
@@ -98,7 +70,7 @@ class Reader {
     if (!n.IsScalar()) fail(n, key, n.IsNull() ? "expected a number, got nothing" : "expected a number");
     const std::string& s = n.Scalar();
     if (n.Tag() == "!") fail(n, key, "expected a number, got the quoted string \"" + s + "\"");
-    const std::optional<double> v = parseNumber(s);
+    const std::optional<double> v = parseYamlNumber(s);
     if (!v) fail(n, key, "expected a number, got '" + s + "'");
     if (!std::isfinite(*v)) fail(n, key, "'" + s + "' is not a finite number");
     return *v;
@@ -201,29 +173,55 @@ class Reader {
     return *idx;
   }
 
-  // A sensor's or marker's name; names become log columns (a marker's with
-  // .x/.y/.z), so no two may collide and none may read as the time column.
-  std::string sensorName(const YAML::Node& n, const std::string& key, bool marker) {
+  // A sensor's or marker's name. It is the default of its log column(s)
+  // (claimed apart, by claimColumn), so it must be one that a CSV can hold.
+  std::string sensorName(const YAML::Node& n, const std::string& key) {
     const std::string name = text(n, key);
-    if (name.find_first_of(",\n\r\"") != std::string::npos || name.front() == '#' ||
-        std::isspace(static_cast<unsigned char>(name.front())) ||
-        std::isspace(static_cast<unsigned char>(name.back())))
-      fail(n, key,
-           "name '" + name +
-               "' cannot be a CSV column (no commas, quotes, leading '#' or surrounding spaces)");
-    if (!marker && isTimeName(name))
-      fail(n, key, "name '" + name + "' is reserved for the log's time column");
-    std::vector<std::string> cols;
-    if (marker)
-      cols = {name + ".x", name + ".y", name + ".z"};
-    else
-      cols = {name};
+    requireCsvName(n, key, "name", name);
     if (!names_.insert(name).second) fail(n, key, "name '" + name + "' is used twice");
-    for (const std::string& c : cols)
-      if (!columns_.insert(c).second)
-        fail(n, key, "name '" + name + "' gives log column '" + c + "', which another sensor has");
     return name;
   }
+
+  // A log column named by `column:`, `columns:` or `ignore_columns:`.
+  std::string columnName(const YAML::Node& n, const std::string& key) const {
+    const std::string name = text(n, key);
+    requireCsvName(n, key, "column", name);
+    return name;
+  }
+
+  // Notes that the item at `key` reads log column `column` (given by
+  // `column:`/`columns:` when mapped, else its name): no two may share one,
+  // and none may be the time column.
+  void claimColumn(const YAML::Node& at, const std::string& key, const std::string& column,
+                   bool mapped) {
+    if (isTimeName(column))
+      fail(at, key,
+           mapped ? "column '" + column + "' is the log's time column, not a sensor's"
+                  : "name '" + column + "' is reserved for the log's time column");
+    const auto [it, fresh] = columns_.emplace(column, ColumnKey{key, line(at), mapped});
+    if (fresh) return;
+    const std::string first =
+        " (" + it->second.key + ", line " + std::to_string(it->second.line) + ")";
+    fail(at, key,
+         mapped ? "column '" + column + "' is read by another sensor too" + first
+                : "name '" + keyName(at) + "' gives log column '" + column +
+                      "', which another sensor has" + first);
+  }
+
+  // An `ignore_columns` entry: no sensor may read it.
+  void ignoreColumn(const YAML::Node& at, const std::string& key, const std::string& column) {
+    const auto [it, fresh] = columns_.emplace(column, ColumnKey{key, line(at), false});
+    if (fresh) return;
+    fail(at, key,
+         "column '" + column + "' is " +
+             (it->second.key.rfind("ignore_columns", 0) == 0
+                  ? "listed twice (" + it->second.key + ", line " +
+                        std::to_string(it->second.line) + ")"
+                  : "read by " + it->second.key + " (line " + std::to_string(it->second.line) +
+                        "): a column is a sensor's or ignored, not both"));
+  }
+
+  ColumnKeys columnKeys() const { return columns_; }
 
   static constexpr const char* kTop = "(top level)";
   // Every parameter name some item's `fixed` list may give.
@@ -233,7 +231,21 @@ class Reader {
  private:
   std::string file_;
   const RobotModel& robot_;
-  std::set<std::string> names_, columns_;
+  static int line(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1 : 0; }
+  static std::string keyName(const YAML::Node& n) { return n.IsScalar() ? n.Scalar() : ""; }
+
+  void requireCsvName(const YAML::Node& n, const std::string& key, const char* what,
+                      const std::string& name) const {
+    if (name.find_first_of(",\n\r\"") != std::string::npos || name.front() == '#' ||
+        std::isspace(static_cast<unsigned char>(name.front())) ||
+        std::isspace(static_cast<unsigned char>(name.back())))
+      fail(n, key,
+           std::string(what) + " '" + name +
+               "' cannot be a CSV column (no commas, quotes, leading '#' or surrounding spaces)");
+  }
+
+  std::set<std::string> names_;
+  ColumnKeys columns_;  // log column -> the key that reads or ignores it
 };
 
 void readFrame(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameters* th) {
@@ -270,6 +282,37 @@ void readFrame(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameter
     th->mocap.rotation = *from_rpy;
 }
 
+// A marker's `columns: [x, y, z]`, or its default <name>.x/.y/.z.
+void readMarkerColumns(Reader& rd, std::map<std::string, YAML::Node>& m, const std::string& key,
+                       MarkerConfig* mc) {
+  if (!m.count("columns")) {
+    for (const std::string& c : mc->logColumns())
+      rd.claimColumn(m["name"], key + ".name", c, false);
+    return;
+  }
+  const YAML::Node& list = m["columns"];
+  const std::string ck = key + ".columns";
+  if (!list.IsSequence() || list.size() != 3)
+    rd.fail(list, ck, "expected the list of the x, y and z columns ([<x>, <y>, <z>])");
+  for (int i = 0; i < 3; ++i) {
+    const std::string ik = ck + "[" + std::to_string(i) + "]";
+    mc->columns[i] = rd.columnName(list[i], ik);
+    rd.claimColumn(list[i], ik, mc->columns[i], true);
+  }
+}
+
+// A joint or tendon sensor's `column:`, or its default: its name.
+template <class SensorConfig>
+void readColumn(Reader& rd, std::map<std::string, YAML::Node>& f, const std::string& key,
+                SensorConfig* c) {
+  if (!f.count("column")) {
+    rd.claimColumn(f["name"], key + ".name", c->name, false);
+    return;
+  }
+  c->column = rd.columnName(f["column"], key + ".column");
+  rd.claimColumn(f["column"], key + ".column", c->column, true);
+}
+
 void readMocap(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameters* th) {
   if (node.IsNull()) return;
   auto f = rd.fields(node, "mocap", {"sigma", "frame", "markers"});
@@ -282,11 +325,13 @@ void readMocap(Reader& rd, const YAML::Node& node, SensorSet* s, SensorParameter
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string key = "mocap.markers[" + std::to_string(i) + "]";
     auto m = rd.fields(list[i], key,
-                       {"name", "link", "position", "fixed", "sigma", "std", "residual"});
+                       {"name", "link", "position", "fixed", "sigma", "columns", "std",
+                        "residual"});
     if (!m.count("name")) rd.fail(list[i], key + ".name", "missing (every marker needs a name)");
     if (!m.count("link")) rd.fail(list[i], key + ".link", "missing (every marker needs a link)");
     MarkerConfig mc;
-    mc.name = rd.sensorName(m["name"], key + ".name", true);
+    mc.name = rd.sensorName(m["name"], key + ".name");
+    readMarkerColumns(rd, m, key, &mc);
     mc.link = rd.link(m["link"], key + ".link");
     mc.link_name = m["link"].Scalar();
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
@@ -316,12 +361,14 @@ void readJointSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorPa
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string key = "joint_sensors[" + std::to_string(i) + "]";
     auto f = rd.fields(list[i], key,
-                       {"name", "joint", "gain", "bias", "sigma", "fixed", "std", "residual"});
+                       {"name", "joint", "column", "gain", "bias", "sigma", "fixed", "std",
+                        "residual"});
     if (!f.count("name")) rd.fail(list[i], key + ".name", "missing (every sensor needs a name)");
     if (!f.count("joint"))
       rd.fail(list[i], key + ".joint", "missing (a joint sensor needs its joint)");
     JointSensorConfig c;
-    c.name = rd.sensorName(f["name"], key + ".name", false);
+    c.name = rd.sensorName(f["name"], key + ".name");
+    readColumn(rd, f, key, &c);
     c.joint = rd.joint(f["joint"], key + ".joint");
     c.joint_name = f["joint"].Scalar();
     GainBias gb;
@@ -375,11 +422,12 @@ void readTendonSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorP
   if (!list.IsSequence()) rd.fail(list, "tendon_sensors", "expected a list of sensors");
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string key = "tendon_sensors[" + std::to_string(i) + "]";
-    auto f = rd.fields(list[i], key, {"name", "gain", "bias", "sigma", "fixed", "path",
-                                      "coupling", "std", "residual"});
+    auto f = rd.fields(list[i], key, {"name", "column", "gain", "bias", "sigma", "fixed",
+                                      "path", "coupling", "std", "residual"});
     if (!f.count("name")) rd.fail(list[i], key + ".name", "missing (every sensor needs a name)");
     TendonSensorConfig c;
-    c.name = rd.sensorName(f["name"], key + ".name", false);
+    c.name = rd.sensorName(f["name"], key + ".name");
+    readColumn(rd, f, key, &c);
     GainBias gb;
     readGainBias(rd, f, key, "a tendon sensor", &c.sigma, &c.fixed, &gb);
     const bool has_path = f.count("path") > 0, has_coupling = f.count("coupling") > 0;
@@ -452,6 +500,16 @@ void readJointOrigins(Reader& rd, const RobotModel& robot, const YAML::Node& nod
   }
 }
 
+void readIgnoreColumns(Reader& rd, const YAML::Node& list, SensorSet* s) {
+  if (!list.IsSequence()) rd.fail(list, "ignore_columns", "expected a list of log columns");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string key = "ignore_columns[" + std::to_string(i) + "]";
+    const std::string column = rd.columnName(list[i], key);
+    rd.ignoreColumn(list[i], key, column);
+    s->ignore_columns.push_back(column);
+  }
+}
+
 }  // namespace
 
 SensorsFile parseSensorsYaml(const std::string& text, const std::string& source_name,
@@ -470,7 +528,8 @@ SensorsFile parseSensorsYaml(const std::string& text, const std::string& source_
   const YAML::Node root = docs.empty() ? YAML::Node() : docs[0];
   if (!root.IsNull()) {
     auto f = rd.fields(root, Reader::kTop,
-                       {"mocap", "joint_sensors", "tendon_sensors", "joint_origins", "summary"});
+                       {"mocap", "joint_sensors", "tendon_sensors", "joint_origins",
+                        "ignore_columns", "summary"});
     if (f.count("mocap")) readMocap(rd, f["mocap"], &out.sensors, &out.theta);
     if (f.count("joint_sensors"))
       readJointSensors(rd, f["joint_sensors"], &out.sensors, &out.theta);
@@ -478,7 +537,10 @@ SensorsFile parseSensorsYaml(const std::string& text, const std::string& source_
       readTendonSensors(rd, f["tendon_sensors"], &out.sensors, &out.theta);
     if (f.count("joint_origins"))
       readJointOrigins(rd, model, f["joint_origins"], &out.sensors, &out.theta);
+    // After the sensors: an ignored column must be none of theirs.
+    if (f.count("ignore_columns")) readIgnoreColumns(rd, f["ignore_columns"], &out.sensors);
   }
+  out.column_keys = rd.columnKeys();
   if (out.sensors.markers.empty() && out.sensors.joint_sensors.empty() &&
       out.sensors.tendon_sensors.empty())
     throw InputError(source_name,

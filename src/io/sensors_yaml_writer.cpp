@@ -4,6 +4,7 @@
 #include "stac/sensors_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cctype>
 #include <set>
@@ -42,6 +43,14 @@ std::string scalar(const std::string& s) {
                   }) &&
       !kReserved.count(lower);
   return plain ? s : quoted(s);
+}
+
+// A flow list of names: [a, "b@c.x"].
+template <class Names>
+std::string list(const Names& names) {
+  std::string s = "[";
+  for (const std::string& n : names) s += (s.size() > 1 ? ", " : "") + scalar(n);
+  return s + "]";
 }
 
 const char* boolean(bool b) { return b ? "true" : "false"; }
@@ -100,6 +109,7 @@ class Writer {
       const JointSensorConfig& c = s_.joint_sensors[j];
       o += "  - name: " + scalar(c.name) + "\n";
       o += "    joint: " + scalar(c.joint_name) + "\n";
+      column(o, c.name, c.column);
       gainBias(o, th_.joint_sensor[j], sig_.joint_sensors[j].sigma, c.fixed);
       if (result_) extras(o, result_->std.joint_sensor, result_->joint_residual, j);
     }
@@ -110,6 +120,7 @@ class Writer {
     for (size_t j = 0; j < s_.tendon_sensors.size(); ++j) {
       const TendonSensorConfig& c = s_.tendon_sensors[j];
       o += "  - name: " + scalar(c.name) + "\n";
+      column(o, c.name, c.column);
       gainBias(o, th_.tendon_sensor[j], sig_.tendon_sensors[j].sigma, c.fixed);
       if (c.kind == TendonSensorConfig::Kind::kPath)
         tendonPath(o, c);
@@ -141,6 +152,9 @@ class Writer {
     const MarkerConfig& mc = s_.markers[m];
     o += "    - name: " + scalar(mc.name) + "\n";
     o += "      link: " + scalar(mc.link_name) + "\n";
+    const std::array<std::string, 3> xyz = mc.logColumns();
+    if (xyz[0] != mc.name + ".x" || xyz[1] != mc.name + ".y" || xyz[2] != mc.name + ".z")
+      o += "      columns: " + list(xyz) + "\n";
     o += "      position: " + vec(th_.marker_position[m]) + "\n";
     o += "      fixed: " + std::string(boolean(mc.fixed)) + "\n";
     const MarkerConfig& ms = sig_.markers[m];
@@ -152,6 +166,11 @@ class Writer {
       if (m < result_->marker_residual.size())
         o += residualLine("      ", result_->marker_residual[m]);
     }
+  }
+
+  // `column:` only where it is not the name, so that a seed reads as it was.
+  static void column(std::string& o, const std::string& name, const std::string& column) {
+    if (!column.empty() && column != name) o += "    column: " + scalar(column) + "\n";
   }
 
   static void gainBias(std::string& o, const GainBias& gb, double sigma,
@@ -291,6 +310,7 @@ std::string sensorsToYaml(const SensorSet& s, const SensorParameters& th,
   if (!s.joint_sensors.empty()) w.jointSensors(o);
   if (!s.tendon_sensors.empty()) w.tendonSensors(o);
   if (!s.joint_origins.empty()) jointOrigins(o, s, th, result);
+  if (!s.ignore_columns.empty()) o += "ignore_columns: " + list(s.ignore_columns) + "\n";
   if (result) summary(o, result->summary);
   return o;
 }

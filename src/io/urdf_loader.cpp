@@ -9,6 +9,7 @@
 // model content itself (SPEC §1 names it for the URDF semantics).
 #include "stac/robot_model.hpp"
 
+#include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
@@ -18,6 +19,7 @@
 #include <kdl/segment.hpp>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 #include "io/urdf_document.hpp"
@@ -47,6 +49,52 @@ KDL::Frame toKdl(const Eigen::Isometry3d& T) {
                   T.translation().z()));
 }
 
+// urdfdom reports through console_bridge, whose default handler prints to
+// stderr (a dozen "material ... undefined" lines for a robot's URDF): the
+// library never prints, and what urdfdom refuses we report ourselves (the
+// document's checks, or the error below). console_bridge's handler is
+// process-wide, so the library holds no handler of its own: this guard
+// swaps in one that keeps urdfdom's errors (for our own message) and drops
+// the rest, for the parse only, and then puts back whatever was there (the
+// default, or the application's own). The mutex keeps two of our threads
+// from saving each other's swap as "the previous handler".
+class QuietUrdfdom {
+ public:
+  QuietUrdfdom() : lock_(mutex()), previous_(console_bridge::getOutputHandler()) {
+    console_bridge::useOutputHandler(&keep_);
+  }
+  const std::string& errors() const { return keep_.errors; }
+  ~QuietUrdfdom() { console_bridge::useOutputHandler(previous_); }
+  QuietUrdfdom(const QuietUrdfdom&) = delete;
+  QuietUrdfdom& operator=(const QuietUrdfdom&) = delete;
+
+ private:
+  struct KeepErrors : console_bridge::OutputHandler {
+    void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+      if (level < console_bridge::CONSOLE_BRIDGE_LOG_ERROR) return;
+      errors += (errors.empty() ? "" : "; ") + text;
+    }
+    std::string errors;
+  };
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
+  console_bridge::OutputHandler* previous_;
+  KeepErrors keep_;
+};
+
+// urdfdom's model, or an InputError with urdfdom's own errors.
+urdf::ModelInterfaceSharedPtr parseQuietly(const std::string& text, const std::string& source) {
+  const QuietUrdfdom quiet;
+  urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(text);
+  if (!urdf)
+    throw InputError(source, "urdfdom could not parse this URDF" +
+                                 (quiet.errors().empty() ? "" : ": " + quiet.errors()));
+  return urdf;
+}
+
 }  // namespace
 
 class UrdfLoader {
@@ -63,11 +111,7 @@ class UrdfLoader {
 
 RobotModel UrdfLoader::load(std::string text, const std::string& source) {
   auto doc = std::make_shared<const io::UrdfDocument>(std::move(text), source);
-  const urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(doc->text());
-  if (!urdf) {
-    throw InputError(source, "urdfdom could not parse this URDF (see its "
-                             "message above for the cause)");
-  }
+  const urdf::ModelInterfaceSharedPtr urdf = parseQuietly(doc->text(), source);
   RobotModel m;
   m.name_ = doc->robotName();
   m.source_ = source;

@@ -24,16 +24,21 @@ namespace {
 constexpr int kPresolveIterations = 40;
 
 // Re-estimates each group's σ scale from a pass (noise_adaptation.hpp), the
-// degrees of freedom being the readings' rows less the q_t's leverage.
-double adaptNoise(const PassStats& st, const NoiseModel& seed, GroupScales* scales,
+// degrees of freedom being the readings' rows less the q_t's leverage and
+// the free θ entries of the group.
+double adaptNoise(const Problem& problem, const PassStats& st, GroupScales* scales,
                   NoiseModel* noise) {
   GroupResiduals residuals;
+  const ThetaSpace& space = problem.model.thetaSpace();
   for (int g = 0; g < kNumSensorGroups; ++g) {
     residuals.wsse[g] = st.wsse[g];
-    residuals.dofs[g] = st.count[g] == 0 ? 0.0 : st.wdims[g] - st.leverage[g];
+    residuals.dofs[g] =
+        st.count[g] == 0 ? 0.0
+                         : st.wdims[g] - st.leverage[g] -
+                               space.freeInGroup(static_cast<SensorGroup>(g));
   }
   const double change = updateScales(residuals, true, scales);
-  *noise = scaledNoise(seed, *scales);
+  *noise = scaledNoise(problem.seed_noise, *scales);
   return change;
 }
 
@@ -41,7 +46,7 @@ double adaptNoise(const PassStats& st, const NoiseModel& seed, GroupScales* scal
 
 double adaptAndRescore(const Problem& problem, State* s, Workspaces* ws, PassStats* st) {
   const GroupScales before = s->scales;
-  const double change = adaptNoise(*st, problem.seed_noise, &s->scales, &s->noise);
+  const double change = adaptNoise(problem, *st, &s->scales, &s->noise);
   if (problem.loss.enabled()) {
     *st = costPass(problem, s->theta, s->noise, s->q.q, false, ws);
     return change;

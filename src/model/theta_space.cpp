@@ -48,6 +48,18 @@ ThetaSpace::ThetaSpace(const SensorSet& sensors) : sensors_(&sensors) {
     }
 }
 
+int ThetaSpace::freeInGroup(SensorGroup g) const {
+  int n = 0;
+  for (int i : free_index_) {
+    const ThetaBlock b = entry(i).block;
+    const SensorGroup owner = b == ThetaBlock::kJointSensor    ? SensorGroup::kJoint
+                              : b == ThetaBlock::kTendonSensor ? SensorGroup::kTendon
+                                                               : SensorGroup::kMarker;
+    n += owner == g;
+  }
+  return n;
+}
+
 ThetaEntry ThetaSpace::entry(int i) const {
   if (i < kTranslationOffset) return {ThetaBlock::kMocapRotation, 0, i};
   if (i < markerOffset(0)) return {ThetaBlock::kMocapTranslation, 0, i - kTranslationOffset};

@@ -4,6 +4,19 @@
 #include <cmath>
 
 namespace stac {
+namespace {
+
+// The seed σ counts as this many residual degrees of freedom of its group
+// (an inverse-gamma prior on σ² with its mode at the seed): negligible
+// beside a long log's, decisive where a group has none left. Without it
+// a group that the q_t can fit exactly (one marker and a redundant arm,
+// several virtual points of one tracked rigid body) has no residual and no
+// residual dof, the estimate is 0/0, and the fixed-point iteration drifts
+// towards σ = 0 over hundreds of iterations, the group then absorbing the
+// fit of the others (seen on a real TIAGo recording).
+constexpr double kSeedDof = 20.0;
+
+}  // namespace
 
 double updateScales(const GroupResiduals& residuals, bool extrapolate, GroupScales* scales) {
   double change = 0;
@@ -12,7 +25,7 @@ double updateScales(const GroupResiduals& residuals, bool extrapolate, GroupScal
     if (dofs <= 0.5) continue;
     double& kappa = scales->kappa[g];
     double& last = scales->last_step[g];
-    const double k = std::max(std::sqrt(residuals.wsse[g] / dofs), 1e-9);
+    const double k = std::max(std::sqrt((residuals.wsse[g] + kSeedDof) / (dofs + kSeedDof)), 1e-9);
     const double step = k - kappa;
     const double ratio = last != 0 ? step / last : 0;
     double next = k;

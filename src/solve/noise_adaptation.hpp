@@ -1,10 +1,12 @@
 // Variance adaptation (paper §III-E): one scale κ_g per sensor group on the
 // seed σ's, re-estimated from the residuals the fit leaves,
-//   κ_g = sqrt(Σ w s / dof_g),
+//   κ_g = sqrt((Σ w s + ν₀) / (dof_g + ν₀)),
 // where s is a reading's squared residual whitened by its seed σ, w the
 // robust loss's weight and dof_g the group's rows less the degrees of
 // freedom the fit spent on them (the leverage of the q_t, or the
-// regression's share of θ). Every method that adapts σ uses this.
+// regression's share of θ); ν₀ (the .cpp's kSeedDof) is the weight of the
+// seed σ, a prior that keeps a group the q_t can fit exactly from
+// collapsing. Every method that adapts σ uses this.
 #pragma once
 
 #include <vector>
