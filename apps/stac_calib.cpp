@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <iostream>
 #include <sstream>
@@ -59,6 +60,11 @@ const std::vector<cli::Option> kOptions = {
     {"loss-scale", "S", "robust loss scale in standard deviations (default 3)"},
     {"no-adapt-variance", "", "keep every sigma at its seed value"},
     {"mocap-units", "m|mm", "unit of the marker columns (default m)"},
+    {"joint-origins", "all|J1,J2,...",
+     "also estimate corrections to the <origin> of these joints (all: every movable joint "
+     "that is not a mimic follower), unless the sensors file lists them already"},
+    {"origin-prior", "XYZ,RPY",
+     "prior std of the joint-origin corrections, metres and radians (default 0.005,0.01)"},
     {"holdout", "F", "keep the last fraction F of the frames (0 < F < 1) out of the fit and print "
                      "the cross-sensor prediction table on them"},
     cli::ignoreColumnsOption(),
@@ -207,6 +213,56 @@ int holdoutFrames(double holdout, const cli::Args& args, int frames,
   return test_frames;
 }
 
+std::vector<std::string> splitCommas(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) parts.push_back(part);
+  if (!text.empty() && text.back() == ',') parts.emplace_back();
+  return parts;
+}
+
+// --origin-prior XYZ,RPY: two positive finite numbers.
+OriginPrior parseOriginPrior(const cli::Args& args) {
+  const std::vector<std::string> parts = splitCommas(args.get("origin-prior"));
+  OriginPrior prior;
+  double* out[2] = {&prior.xyz, &prior.rpy};
+  bool ok = parts.size() == 2;
+  for (size_t i = 0; ok && i < 2; ++i) {
+    char* end = nullptr;
+    *out[i] = std::strtod(parts[i].c_str(), &end);
+    ok = !parts[i].empty() && *end == '\0' && std::isfinite(*out[i]) && *out[i] > 0;
+  }
+  if (!ok)
+    throw cli::UsageError(args.typed("origin-prior") +
+                          ": expected two positive numbers XYZ,RPY (metres, radians)");
+  return prior;
+}
+
+// --joint-origins and --origin-prior (SPEC §3, §4) on the seed.
+void applyOriginOptions(const cli::Args& args, const RobotModel& robot, SensorsFile* sf) {
+  const size_t listed = sf->sensors.joint_origins.size();
+  if (args.has("joint-origins")) {
+    const std::vector<std::string> names = splitCommas(args.get("joint-origins"));
+    if (std::any_of(names.begin(), names.end(), [](const std::string& n) { return n.empty(); }))
+      throw cli::UsageError(args.typed("joint-origins") + ": expected all or J1,J2,...");
+    try {
+      addJointOrigins(robot, names, sf);
+    } catch (const std::invalid_argument& e) {
+      throw cli::UsageError(args.typed("joint-origins") + ": " + e.what());
+    }
+  }
+  OriginPrior& prior = sf->sensors.origin_prior;
+  if (args.has("origin-prior")) {
+    if (sf->sensors.joint_origins.empty())
+      throw cli::UsageError(args.typed("origin-prior") +
+                            ": no joint origins to estimate (give --joint-origins or "
+                            "joint_origins in the sensors file)");
+    prior = parseOriginPrior(args);
+  } else if (sf->sensors.joint_origins.size() > listed && !prior.any()) {
+    prior = {kDefaultOriginPriorXyz, kDefaultOriginPriorRpy};
+  }
+}
+
 int run(const cli::Args& args) {
   const std::string urdf = args.get("urdf"), log_path = args.get("log");
   const std::string sensors_path = args.get("sensors");
@@ -231,7 +287,8 @@ int run(const cli::Args& args) {
   const RobotModel robot = RobotModel::fromFile(urdf);
   const Log log = readLog(log_path);
   requireDataRows(log);  // before inference, which would only complain about the header
-  const SensorsFile sf = cli::sensorsForLog(args, sensors_path, robot, log);
+  SensorsFile sf = cli::sensorsForLog(args, sensors_path, robot, log);
+  applyOriginOptions(args, robot, &sf);
   const Observations all = cli::bindSensors(log, sf, sensors_path, mocap_scale);
   if (!ekf_q_path.empty()) options.ekf.initial_q = firstJointAngles(readLog(ekf_q_path), robot);
   requireReadings(all, sf.sensors, log_path, ReadingCheck::kEverySensor);

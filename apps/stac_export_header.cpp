@@ -282,6 +282,12 @@ int run(const Args& args) {
   std::cerr << "stac_export_header: " << file.sensors.joint_sensors.size()
             << " joint sensors, " << file.sensors.tendon_sensors.size() << " tendon sensors, "
             << file.sensors.markers.size() << " markers -> " << output_path << "\n";
+  // T_link and path lengths come from the robot's own kinematics: the
+  // corrected geometry lives in the URDF, not in this header.
+  if (!file.sensors.joint_origins.empty())
+    std::cerr << "stac_export_header: note: the " << file.sensors.joint_origins.size()
+              << " joint-origin corrections are not in the header; compute T_link with the URDF "
+                 "written by stac_calib --urdf-out\n";
   return 0;
 }
 

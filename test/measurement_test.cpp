@@ -72,6 +72,18 @@ struct Scene {
     coupling.sigma = 0.001;
     sensors.tendon_sensors = {path, coupling};
     theta.tendon_sensor = {{uni(10, 30), uni(-1, 1)}, {uni(-30, -10), uni(-1, 1)}};
+    // Joint-origin corrections on every joint (revolute, prismatic, mimic
+    // follower): markers and the path's anchors downstream of them.
+    for (const char* j : {"j1", "j2", "j3", "j4"}) {
+      JointOriginConfig c;
+      c.joint_name = j;
+      c.link = robot.movableJoints()[*robot.movableJointIndex(j)].child_link;
+      sensors.joint_origins.push_back(c);
+      OriginCorrection o;
+      o.xyz = Eigen::Vector3d(uni(-0.01, 0.01), uni(-0.01, 0.01), uni(-0.01, 0.01));
+      o.rpy = Eigen::Vector3d(uni(-0.3, 0.3), uni(-0.3, 0.3), uni(-0.3, 0.3));
+      theta.joint_origin.push_back(o);
+    }
     theta.mocap.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized()));
     theta.mocap.translation = Eigen::Vector3d(0.3, -0.2, 1.0);
     obs.num_frames = 1;

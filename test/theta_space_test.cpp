@@ -48,6 +48,7 @@ TEST(ThetaSpace, LayoutNamesAndEntries) {
       case ThetaBlock::kMarker: EXPECT_EQ(i, space.markerOffset(e.item) + e.component); break;
       case ThetaBlock::kJointSensor: EXPECT_EQ(i, space.jointOffset(e.item) + e.component); break;
       case ThetaBlock::kTendonSensor: EXPECT_EQ(i, space.tendonOffset(e.item) + e.component); break;
+      case ThetaBlock::kJointOrigin: EXPECT_EQ(i, space.originOffset(e.item) + e.component); break;
     }
   }
   EXPECT_EQ(space.ownerKey(1), "mocap.frame.rotation");

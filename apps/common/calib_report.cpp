@@ -304,6 +304,38 @@ void unidentifiableSection(std::ostringstream& o, const CalibrationSummary& s) {
   o << "</ul></section>";
 }
 
+// Joint-origin corrections (SPEC §3): each joint's estimate ± std, and which
+// components the data determines and which stay on the prior.
+void originSection(std::ostringstream& o, const CalibrationResult& r) {
+  const SensorSet& sensors = r.sensors;
+  if (sensors.joint_origins.empty()) return;
+  o << "<section id=\"joint-origins\"><h2>Joint-origin corrections</h2><table><tr><th>joint</th>"
+       "<th>xyz (mm)</th><th>std (mm)</th><th>rpy (deg)</th><th>std (deg)</th>"
+       "<th>determined by the data</th><th>on the prior</th></tr>";
+  const double deg = 180 / M_PI;
+  auto vec = [](const Eigen::Vector3d& v) {
+    return num(v.x(), "%.3g") + ", " + num(v.y(), "%.3g") + ", " + num(v.z(), "%.3g");
+  };
+  for (size_t c = 0; c < sensors.joint_origins.size(); ++c) {
+    const std::string& joint = sensors.joint_origins[c].joint_name;
+    std::string determined, on_prior;
+    auto join = [](const std::vector<std::string>& parts) {
+      std::string s;
+      for (const std::string& p : parts) s += (s.empty() ? "" : " ") + p;
+      return s;
+    };
+    for (const OriginDetermination& d : r.summary.origins)
+      if (d.joint == joint) determined = join(d.determined), on_prior = join(d.on_prior);
+    const OriginCorrection& v = r.theta.joint_origin[c];
+    const OriginCorrection sd =
+        c < r.std.joint_origin.size() ? r.std.joint_origin[c] : OriginCorrection{};
+    o << "<tr>" << td(joint, true) << td(vec(1e3 * v.xyz)) << td(vec(1e3 * sd.xyz))
+      << td(vec(deg * v.rpy)) << td(vec(deg * sd.rpy)) << td(determined, true)
+      << td(on_prior, true) << "</tr>";
+  }
+  o << "</table></section>";
+}
+
 }  // namespace
 
 std::string calibrationReportHtml(const RobotModel& robot, const SensorSet& sensors,
@@ -328,6 +360,8 @@ std::string calibrationReportHtml(const RobotModel& robot, const SensorSet& sens
   markerSection(o, robot, sensors, seed, result);
   o << "\n";
   unidentifiableSection(o, result.summary);
+  o << "\n";
+  originSection(o, result);
   o << "\n</body>\n</html>\n";
   return o.str();
 }

@@ -24,11 +24,21 @@ struct ParameterStd {
   std::vector<Eigen::Vector3d> marker_position;
   std::vector<GainBias> joint_sensor;   // std of gain and of bias
   std::vector<GainBias> tendon_sensor;
+  std::vector<OriginCorrection> joint_origin;  // std of each component
 };
 
 struct UnidentifiableDirection {
   std::vector<std::string> parameters;  // e.g. "joint_sensors.pan_pot.bias"
   std::string reason;                   // one human sentence
+};
+
+// With a prior on the joint-origin corrections: which components of one
+// joint's correction the data determines (posterior std below half the
+// prior's) and which stay on the prior (component names x, y, z, roll,
+// pitch, yaw).
+struct OriginDetermination {
+  std::string joint;
+  std::vector<std::string> determined, on_prior;
 };
 
 struct DownweightedReading {
@@ -54,6 +64,7 @@ struct CalibrationSummary {
   double before_rms[kNumSensorGroups] = {0, 0, 0};
   double after_rms[kNumSensorGroups] = {0, 0, 0};
   std::vector<UnidentifiableDirection> unidentifiable;
+  std::vector<OriginDetermination> origins;  // one per corrected joint with free parts
   std::vector<DownweightedReading> downweighted;
   // The result's own checks (SPEC §3 summary.verdict): empty when it passed
   // them ("ok"), else one sentence per failed check. stac_calib exits 4 on a

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "stac/joint_origins.hpp"
 #include "stac/robot_model.hpp"
 
 namespace stac {
@@ -23,7 +24,38 @@ struct KinematicsWorkspace {
   std::vector<Eigen::Isometry3d> link_pose;      // link frame in base frame
   std::vector<Eigen::Vector3d> joint_axis;       // movable joint axis, base
   std::vector<Eigen::Vector3d> joint_origin;     // a point on that axis, base
+
+  // Joint-origin corrections (joint_origins.hpp), set by
+  // setOriginCorrections(): each link's origin as the sweep uses it (the
+  // URDF's, or T(urdf) · T(correction)), which correction a link carries
+  // (-1: none), and per correction what its Jacobian needs from the sweep:
+  // the world rotation of the frame the URDF origin places, the world
+  // corrected frame origin, and the world ω of its roll, pitch, yaw.
+  std::vector<Eigen::Isometry3d> link_origin;
+  std::vector<int> correction_of_link;
+  std::vector<Eigen::Matrix3d> origin_frame, origin_rpy_axes, origin_rpy_local;
+  std::vector<Eigen::Vector3d> origin_point;
+  std::vector<double> applied;  // the corrections last set (xyz, rpy per joint)
 };
+
+// Applies corrections[i] to the origin of links[i] for every following
+// forwardKinematics() on ws (empty: the URDF as is). Cheap when they have
+// not changed since the last call.
+void setOriginCorrections(const RobotModel& model, const std::vector<int>& links,
+                          const std::vector<OriginCorrection>& corrections,
+                          KinematicsWorkspace* ws);
+
+// The corrections (indices into the last setOriginCorrections() lists)
+// whose link lies on `link`'s path to the root, root first: the only ones
+// that move a point fixed on `link`.
+std::vector<int> supportingCorrections(const RobotModel& model, const std::vector<int>& links,
+                                       int link);
+
+// d(point)/d(correction c) = [d/dxyz (3) | d/drpy (3)] for a point fixed on
+// a link downstream of correction c, in the base frame, added into the 3 x 6
+// block J (a point's columns for that correction).
+void addOriginJacobian(const KinematicsWorkspace& ws, int c, const Eigen::Vector3d& point_in_base,
+                       double weight, Eigen::Ref<Eigen::Matrix<double, 3, 6>> J);
 
 // Fills ws->link_pose, joint_axis and joint_origin for q (size model.dof()).
 void forwardKinematics(const RobotModel& model, const Eigen::VectorXd& q,

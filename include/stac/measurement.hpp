@@ -75,16 +75,29 @@ class MeasurementModel {
   const std::vector<int>& markerSlots(int m) const { return marker_slots_[m]; }
   const std::vector<int>& jointColumns(int s) const { return joint_cols_[s]; }
   const std::vector<int>& tendonColumns(int s) const { return tendon_cols_[s]; }
+  // The joint-origin corrections (SensorSet::joint_origins indices) that
+  // move marker m, or any anchor of tendon path s; and, per anchor k of
+  // path s, the positions among tendonOrigins(s) of those that move it.
+  const std::vector<int>& markerOrigins(int m) const { return marker_origins_[m]; }
+  const std::vector<int>& tendonOrigins(int s) const { return tendon_origins_[s]; }
+  const std::vector<std::vector<int>>& anchorOriginSlots(int s) const { return anchor_slots_[s]; }
+  // The widest θ-Jacobian of one reading (columns).
+  int thetaWidthMax() const { return theta_width_; }
 
   // θ's layout: the columns of every dr/dθ.
   const ThetaSpace& thetaSpace() const { return theta_space_; }
 
  private:
+  void resolveOrigins();
+
   const RobotModel* robot_;
   const SensorSet* sensors_;
   int num_sensors_ = 0;
   std::vector<std::vector<int>> marker_cols_, joint_cols_, tendon_cols_;
   std::vector<std::vector<int>> marker_slots_;
+  std::vector<std::vector<int>> marker_origins_, tendon_origins_;
+  std::vector<std::vector<std::vector<int>>> anchor_slots_;
+  int theta_width_ = 9;
   ThetaSpace theta_space_;
 };
 
@@ -100,8 +113,8 @@ struct ReadingJacobian {
   const std::vector<int>* q_cols = nullptr;
   Eigen::Matrix<double, 3, Eigen::Dynamic> Jq;  // rows x q_cols->size()
   int theta_count = 0;
-  int theta_index[9] = {0};
-  Eigen::Matrix<double, 3, 9> Jtheta = Eigen::Matrix<double, 3, 9>::Zero();
+  std::vector<int> theta_index;                  // MeasurementModel::thetaWidthMax()
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jtheta;  // 3 x thetaWidthMax()
 };
 
 // The readings of one frame, as pointers into the Observations rows.
@@ -136,6 +149,12 @@ double evaluateFrame(const MeasurementModel& model, const SensorParameters& thet
 }  // namespace stac
 
 namespace stac {
+
+// Points the kinematics in ws at θ's joint-origin corrections (a no-op
+// without any): every evaluation below does it itself; code that runs
+// forwardKinematics() on its own calls it first.
+void applyJointOrigins(const MeasurementModel& model, const SensorParameters& theta,
+                       KinematicsWorkspace* ws);
 
 // Noise-free predicted readings of every sensor at q, in raw units (mocap
 // frame for markers): marker (3 * markers), joint, tendon.

@@ -43,6 +43,14 @@ void addLengthJacobian(const RobotModel& robot, const TendonSensorConfig& s,
                        Eigen::Ref<Eigen::RowVectorXd> row);
 // The q columns L can depend on, sorted.
 std::vector<int> columns(const RobotModel& robot, const TendonSensorConfig& s);
+// dL/d(joint-origin corrections) of a path, times scale, added into row
+// (1 x 6·origins.size(), the corrections `origins` in that order):
+// Σ_k u_kᵀ (da_{k+1}/dc - da_k/dc), anchor k moved by the corrections at
+// the positions anchor_slots[k] of `origins` (kinematics.hpp addOriginJacobian).
+void addOriginLengthJacobian(const TendonSensorConfig& s, const KinematicsWorkspace& ws,
+                             const std::vector<int>& origins,
+                             const std::vector<std::vector<int>>& anchor_slots, double scale,
+                             Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row);
 }  // namespace tendon_sensor
 
 // ---- Marker: x = R (h_k(q) d) + t ----

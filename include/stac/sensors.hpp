@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "stac/joint_origins.hpp"
+
 namespace stac {
 
 // x_mocap = R x_base + t: the pose of the robot base in the mocap frame.
@@ -98,6 +100,9 @@ struct SensorSet {
   std::vector<MarkerConfig> markers;
   std::vector<JointSensorConfig> joint_sensors;
   std::vector<TendonSensorConfig> tendon_sensors;
+  // Kinematic calibration (optional): the joints whose <origin> is corrected.
+  std::vector<JointOriginConfig> joint_origins;
+  OriginPrior origin_prior;
   // Log columns that belong to no sensor (SPEC §3 `ignore_columns:`).
   std::vector<std::string> ignore_columns;
 
@@ -116,6 +121,7 @@ struct SensorParameters {
   std::vector<Eigen::Vector3d> marker_position;  // in the marker's link frame
   std::vector<GainBias> joint_sensor;
   std::vector<GainBias> tendon_sensor;
+  std::vector<OriginCorrection> joint_origin;  // indexed like SensorSet::joint_origins
 };
 
 // Sensor groups, for per-group σ adaptation and reporting (SPEC §1).

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "stac/calibration.hpp"
 #include "stac/log.hpp"
@@ -27,6 +28,13 @@ SensorsFile parseSensorsYaml(const std::string& text,
 std::string sensorsToYaml(const SensorSet& sensors,
                           const SensorParameters& theta,
                           const CalibrationResult* result = nullptr);
+
+// SPEC §4 `stac_calib --joint-origins`: a free zero correction for each of
+// `joints` (the one name "all": every movable joint that is not a mimic
+// follower) that file->sensors does not list already. Throws
+// std::invalid_argument naming a joint the URDF does not have.
+void addJointOrigins(const RobotModel& model, const std::vector<std::string>& joints,
+                     SensorsFile* file);
 
 // Adds `columns` (e.g. --ignore-columns, named by `origin` in messages) to
 // the columns the sensors ignore. Throws InputError(sensors_source, ...) if

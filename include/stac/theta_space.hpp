@@ -5,7 +5,8 @@
 //
 // Layout, in entries (the order of the sensors file):
 //   [mocap rotation δ (3) | mocap translation (3) | marker positions (3 each) |
-//    joint sensors (gain, bias) | tendon sensors (gain, bias)]
+//    joint sensors (gain, bias) | tendon sensors (gain, bias) |
+//    joint-origin corrections (x, y, z, roll, pitch, yaw each)]
 // The rotation's three entries are a tangent vector: θ ⊕ δ turns the mocap
 // frame by exp([δ]×) on the left (SO(3) is a manifold, not a vector space);
 // every other entry adds.
@@ -25,12 +26,19 @@
 namespace stac {
 
 // What one θ entry belongs to.
-enum class ThetaBlock { kMocapRotation, kMocapTranslation, kMarker, kJointSensor, kTendonSensor };
+enum class ThetaBlock {
+  kMocapRotation,
+  kMocapTranslation,
+  kMarker,
+  kJointSensor,
+  kTendonSensor,
+  kJointOrigin
+};
 
 struct ThetaEntry {
   ThetaBlock block = ThetaBlock::kMocapRotation;
   int item = 0;       // marker or sensor index within its block (0 for the frame)
-  int component = 0;  // x/y/z (0..2), or 0 = gain, 1 = bias
+  int component = 0;  // x/y/z (0..2), 0 = gain, 1 = bias, or x/y/z/roll/pitch/yaw (0..5)
 };
 
 class ThetaSpace {
@@ -46,6 +54,12 @@ class ThetaSpace {
   int markerOffset(int m) const { return 6 + 3 * m; }
   int jointOffset(int s) const { return joint_offset_ + 2 * s; }
   int tendonOffset(int s) const { return tendon_offset_ + 2 * s; }
+  int originOffset(int c) const { return origin_offset_ + 6 * c; }
+  // The joint-origin corrections' links (SensorSet::joint_origins order),
+  // what setOriginCorrections() takes.
+  const std::vector<int>& originLinks() const { return origin_links_; }
+  // The prior std of entry i (0: no prior; only joint-origin entries have one).
+  double priorStd(int i) const;
   ThetaEntry entry(int i) const;
 
   // Human names, e.g. "markers.m_head.position.x", "joint_sensors.p.bias".
@@ -88,7 +102,8 @@ class ThetaSpace {
 
  private:
   const SensorSet* sensors_;
-  int joint_offset_ = 0, tendon_offset_ = 0, size_ = 0;
+  int joint_offset_ = 0, tendon_offset_ = 0, origin_offset_ = 0, size_ = 0;
+  std::vector<int> origin_links_;
   std::vector<std::string> names_;
   std::vector<bool> free_;
   std::vector<int> free_index_, free_position_;

@@ -237,6 +237,12 @@ SensorParameters alignTruth(const SensorSet& sensors, const SensorSet& truth_sen
                join(mismatched);
   if (!problem.empty())
     throw InputError(truth_source, "the truth does not match the calibrated sensors: " + problem);
+  // A joint the truth does not correct has its URDF origin: a zero correction.
+  aligned.joint_origin.assign(sensors.joint_origins.size(), OriginCorrection{});
+  for (size_t c = 0; c < sensors.joint_origins.size(); ++c)
+    for (size_t k = 0; k < truth_sensors.joint_origins.size(); ++k)
+      if (truth_sensors.joint_origins[k].link == sensors.joint_origins[c].link)
+        aligned.joint_origin[c] = truth.joint_origin[k];
   return aligned;
 }
 
@@ -267,6 +273,12 @@ std::vector<ParameterError> compareToTruth(const SensorSet& sensors,
     const int o = space.tendonOffset(static_cast<int>(j));
     out.push_back({sensors.tendon_sensors[j].name + ".gain", d[o], ""});
     out.push_back({sensors.tendon_sensors[j].name + ".bias", d[o + 1], ""});
+  }
+  for (size_t c = 0; c < sensors.joint_origins.size(); ++c) {
+    const int o = space.originOffset(static_cast<int>(c));
+    out.push_back({sensors.joint_origins[c].joint_name + ".origin.xyz", d.segment<3>(o).norm(), "m"});
+    out.push_back(
+        {sensors.joint_origins[c].joint_name + ".origin.rpy", d.segment<3>(o + 3).norm(), "rad"});
   }
   return out;
 }

@@ -225,7 +225,7 @@ class Reader {
   static constexpr const char* kTop = "(top level)";
   // Every parameter name some item's `fixed` list may give.
   inline static const std::set<std::string> kAnyPart = {"gain", "bias", "rotation",
-                                                        "translation", "position"};
+                                                        "translation", "position", "xyz", "rpy"};
 
  private:
   std::string file_;
@@ -445,6 +445,60 @@ void readTendonSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorP
   }
 }
 
+// The link a URDF joint attaches (any joint but the root's: a fixed joint's
+// origin is geometry too).
+int originLink(Reader& rd, const RobotModel& robot, const YAML::Node& n, const std::string& key) {
+  const std::string name = rd.text(n, key);
+  for (int l = 0; l < robot.numLinks(); ++l)
+    if (robot.links()[l].parent >= 0 && robot.links()[l].joint_name == name) return l;
+  rd.fail(n, key, "unknown joint '" + name + "' (not in " + robot.sourceName() + ")");
+}
+
+double priorStd(Reader& rd, std::map<std::string, YAML::Node>& f, const char* part) {
+  if (!f.count(part)) return 0.0;
+  const std::string key = std::string("joint_origins.prior_std.") + part;
+  const double v = rd.number(f[part], key);
+  if (!(v > 0)) rd.fail(f[part], key, "a prior std must be positive, got " + f[part].Scalar());
+  return v;
+}
+
+// SPEC §3 "Kinematic calibration: joint origins".
+void readJointOrigins(Reader& rd, const RobotModel& robot, const YAML::Node& node, SensorSet* s,
+                      SensorParameters* th) {
+  auto f = rd.fields(node, "joint_origins", {"prior_std", "joints"});
+  if (f.count("prior_std")) {
+    auto p = rd.fields(f["prior_std"], "joint_origins.prior_std", {"xyz", "rpy"});
+    s->origin_prior = {priorStd(rd, p, "xyz"), priorStd(rd, p, "rpy")};
+  }
+  if (!f.count("joints")) return;
+  const YAML::Node& list = f["joints"];
+  if (!list.IsSequence()) rd.fail(list, "joint_origins.joints", "expected a list of joints");
+  std::map<int, int> seen;  // link -> line
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string key = "joint_origins.joints[" + std::to_string(i) + "]";
+    auto j = rd.fields(list[i], key, {"joint", "xyz", "rpy", "fixed", "std"});
+    if (!j.count("joint")) rd.fail(list[i], key + ".joint", "missing (which joint's origin)");
+    JointOriginConfig c;
+    c.link = originLink(rd, robot, j["joint"], key + ".joint");
+    c.joint_name = j["joint"].Scalar();
+    if (seen.count(c.link))
+      rd.fail(j["joint"], key + ".joint",
+              "joint '" + c.joint_name + "' given twice (first on line " +
+                  std::to_string(seen[c.link]) + ")");
+    seen[c.link] = j["joint"].Mark().line + 1;
+    OriginCorrection o;
+    if (j.count("xyz")) o.xyz = rd.vector(j["xyz"], key + ".xyz", 3);
+    if (j.count("rpy")) o.rpy = rd.vector(j["rpy"], key + ".rpy", 3);
+    if (j.count("fixed")) {
+      const std::vector<bool> held =
+          rd.heldParts(j["fixed"], key + ".fixed", "a joint origin", {"xyz", "rpy"});
+      c.fixed = {held[0], held[1]};
+    }
+    s->joint_origins.push_back(c);
+    th->joint_origin.push_back(o);
+  }
+}
+
 void readIgnoreColumns(Reader& rd, const YAML::Node& list, SensorSet* s) {
   if (!list.IsSequence()) rd.fail(list, "ignore_columns", "expected a list of log columns");
   for (size_t i = 0; i < list.size(); ++i) {
@@ -473,12 +527,15 @@ SensorsFile parseSensorsYaml(const std::string& text, const std::string& source_
   const YAML::Node root = docs.empty() ? YAML::Node() : docs[0];
   if (!root.IsNull()) {
     auto f = rd.fields(root, Reader::kTop,
-                       {"mocap", "joint_sensors", "tendon_sensors", "ignore_columns", "summary"});
+                       {"mocap", "joint_sensors", "tendon_sensors", "joint_origins",
+                        "ignore_columns", "summary"});
     if (f.count("mocap")) readMocap(rd, f["mocap"], &out.sensors, &out.theta);
     if (f.count("joint_sensors"))
       readJointSensors(rd, f["joint_sensors"], &out.sensors, &out.theta);
     if (f.count("tendon_sensors"))
       readTendonSensors(rd, f["tendon_sensors"], &out.sensors, &out.theta);
+    if (f.count("joint_origins"))
+      readJointOrigins(rd, model, f["joint_origins"], &out.sensors, &out.theta);
     // After the sensors: an ignored column must be none of theirs.
     if (f.count("ignore_columns")) readIgnoreColumns(rd, f["ignore_columns"], &out.sensors);
   }

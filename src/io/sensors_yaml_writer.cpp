@@ -209,6 +209,45 @@ class Writer {
   const SensorSet& sig_;
 };
 
+// SPEC §3 "Kinematic calibration: joint origins", with std per joint in a
+// calibration output.
+void jointOrigins(std::string& o, const SensorSet& s, const SensorParameters& th,
+                  const CalibrationResult* result) {
+  o += "joint_origins:\n";
+  const OriginPrior& p = s.origin_prior;
+  if (p.any()) {
+    o += "  prior_std: {";
+    if (p.xyz > 0) o += "xyz: " + num(p.xyz) + (p.rpy > 0 ? ", " : "");
+    if (p.rpy > 0) o += "rpy: " + num(p.rpy);
+    o += "}\n";
+  }
+  o += "  joints:\n";
+  for (size_t c = 0; c < s.joint_origins.size(); ++c) {
+    const JointOriginConfig& jc = s.joint_origins[c];
+    o += "    - joint: " + scalar(jc.joint_name) + "\n";
+    o += "      xyz: " + vec(th.joint_origin[c].xyz) + "\n";
+    o += "      rpy: " + vec(th.joint_origin[c].rpy) + "\n";
+    o += "      fixed: " + fixedValue(jc.fixed.xyz, jc.fixed.rpy, "xyz", "rpy") + "\n";
+    if (result && c < result->std.joint_origin.size())
+      o += "      std: {xyz: " + vec(result->std.joint_origin[c].xyz) +
+           ", rpy: " + vec(result->std.joint_origin[c].rpy) + "}\n";
+  }
+}
+
+std::string nameList(const std::vector<std::string>& names) {
+  std::string s = "[";
+  for (size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
+  return s + "]";
+}
+
+void originDetermination(std::string& o, const std::vector<OriginDetermination>& list) {
+  if (list.empty()) return;
+  o += "  joint_origins:\n";
+  for (const OriginDetermination& d : list)
+    o += "    - {joint: " + scalar(d.joint) + ", determined: " + nameList(d.determined) +
+         ", on_prior: " + nameList(d.on_prior) + "}\n";
+}
+
 // An empty list as "[]" so that it reads back as a list, not as null.
 void unidentifiable(std::string& o, const std::vector<UnidentifiableDirection>& list) {
   if (list.empty()) {
@@ -249,6 +288,7 @@ void summary(std::string& o, const CalibrationSummary& sm) {
   o += "  rms_before: " + perGroup(sm, sm.before_rms) + "\n";
   o += "  rms_after: " + perGroup(sm, sm.after_rms) + "\n";
   unidentifiable(o, sm.unidentifiable);
+  originDetermination(o, sm.origins);
   downweighted(o, sm.downweighted);
   if (sm.verdict.empty()) {
     o += "  verdict: ok\n";
@@ -269,6 +309,7 @@ std::string sensorsToYaml(const SensorSet& s, const SensorParameters& th,
   if (!s.markers.empty()) w.mocap(o);
   if (!s.joint_sensors.empty()) w.jointSensors(o);
   if (!s.tendon_sensors.empty()) w.tendonSensors(o);
+  if (!s.joint_origins.empty()) jointOrigins(o, s, th, result);
   if (!s.ignore_columns.empty()) o += "ignore_columns: " + list(s.ignore_columns) + "\n";
   if (result) summary(o, result->summary);
   return o;

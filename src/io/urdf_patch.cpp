@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "io/urdf_document.hpp"
+#include "io/rpy.hpp"
 #include "io/urdf_edit.hpp"
 #include "stac/error.hpp"
 
@@ -164,6 +165,26 @@ int firstDifferentLine(const std::string& a, const std::string& b, std::string* 
   return line;
 }
 
+bool correctedJoint(const SensorSet& sensors, int link) {
+  for (const JointOriginConfig& c : sensors.joint_origins)
+    if (c.link == link) return true;
+  return false;
+}
+
+// The joint-origin corrections (SPEC §3): each corrected joint's <origin>
+// becomes T(urdf origin) · T(correction), as xyz and rpy.
+void addOriginEdits(const RobotModel& robot, const SensorSet& sensors,
+                    const SensorParameters& theta, std::vector<io::OriginEdit>* edits) {
+  for (size_t c = 0; c < sensors.joint_origins.size(); ++c) {
+    const OriginCorrection& o = theta.joint_origin[c];
+    if (o.xyz.isZero(0) && o.rpy.isZero(0)) continue;
+    const Link& link = robot.links()[sensors.joint_origins[c].link];
+    const Eigen::Isometry3d T = link.origin * o.transform();
+    edits->push_back({link.joint_name, Eigen::Vector3d(T.translation()),
+                      toRpy(Eigen::Quaterniond(T.linear()))});
+  }
+}
+
 }  // namespace
 
 UrdfPatch patchUrdfMarkers(const RobotModel& robot, const SensorSet& sensors,
@@ -173,16 +194,26 @@ UrdfPatch patchUrdfMarkers(const RobotModel& robot, const SensorSet& sensors,
     throw std::invalid_argument("patchUrdfMarkers: theta has " +
                                 std::to_string(theta.marker_position.size()) +
                                 " marker positions for " + std::to_string(M) + " markers");
+  if (theta.joint_origin.size() != sensors.joint_origins.size())
+    throw std::invalid_argument("patchUrdfMarkers: theta does not match the joint origins");
   const io::UrdfDocument& doc = robot.urdfDocument();
   const RigidBodies bodies(robot);
   UrdfPatch out;
-  const std::vector<int> carrier = CarrierChoice(robot, sensors, bodies).choose(&out.unplaced);
+  std::vector<int> carrier = CarrierChoice(robot, sensors, bodies).choose(&out.unplaced);
 
   std::vector<io::OriginEdit> edits;
   std::vector<Eigen::Vector3d> target(M);  // the marker in its body's frame
   for (int m = 0; m < M; ++m) {
     const int L = carrier[m];
     if (L < 0) continue;
+    if (correctedJoint(sensors, L)) {
+      out.unplaced.push_back({sensors.markers[m].name,
+                              "link '" + robot.links()[L].name +
+                                  "' is attached by a joint whose origin is corrected "
+                                  "(joint_origins)"});
+      carrier[m] = -1;
+      continue;
+    }
     const int k = sensors.markers[m].link;
     const Link& link = robot.links()[L];
     const Eigen::Vector3d& d = theta.marker_position[m];
@@ -199,8 +230,10 @@ UrdfPatch patchUrdfMarkers(const RobotModel& robot, const SensorSet& sensors,
     out.placed.push_back({sensors.markers[m].name, link.name, link.joint_name, joint->line});
     if (xyz != link.origin.translation()) edits.push_back({link.joint_name, xyz, std::nullopt});
   }
+  const size_t marker_edits = edits.size();
+  addOriginEdits(robot, sensors, theta, &edits);
   out.urdf = io::withJointOrigins(doc, edits);
-  if (!edits.empty()) checkPatched(robot, out.urdf, sensors, bodies, carrier, target);
+  if (marker_edits > 0) checkPatched(robot, out.urdf, sensors, bodies, carrier, target);
   return out;
 }
 

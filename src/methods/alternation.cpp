@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "solve/statistics.hpp"
+#include "solve/origin_phase.hpp"
 #include "solve/parallel.hpp"
 #include "solve/schur.hpp"
 #include "solve/theta_phase.hpp"
@@ -100,6 +101,9 @@ PassStats alternatingIteration(const Problem& problem, const CalibrationOptions&
   to.threads = problem.threads;
   qPhase(problem.model, s->theta, s->noise, problem.loss, problem.obs, qo, ws, &s->q);
   thetaPhase(problem.model, s->noise, problem.loss, problem.obs, s->q, to, ws, &s->theta);
+  double lambda = 1e-4;  // joint-origin corrections: no closed form (origin_phase.hpp)
+  originPhase(problem.model, s->noise, problem.loss, problem.obs, s->q.q, 3, problem.threads, ws,
+              &lambda, &s->theta);
   return costPass(problem, s->theta, s->noise, s->q.q, options.adapt_variance, ws);
 }
 

@@ -49,6 +49,12 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   std::string error;
   if (!given.isValid(&error)) throw std::invalid_argument(error);
   if (obs.num_frames < 1) throw std::invalid_argument("the log has no frames");
+  if (seed.joint_origin.size() != sensors.joint_origins.size())
+    throw std::invalid_argument("the seed has no value for every joint-origin correction");
+  if (!sensors.joint_origins.empty() && given.method == Method::kEkf)
+    throw std::invalid_argument(
+        "--method ekf does not estimate joint-origin corrections (joint_origins, "
+        "--joint-origins): use --method stac, joint or classical");
   CalibrationOptions options = given;
   // The EKF starts from one q: q0's first row unless its own is given.
   if (options.method == Method::kEkf && q0 && options.ekf.initial_q.size() == 0)

@@ -19,6 +19,7 @@
 #include "model/frame_jacobian.hpp"
 #include "solve/lm_damping.hpp"
 #include "solve/noise_adaptation.hpp"
+#include "solve/origin_prior.hpp"
 #include "solve/parallel.hpp"
 #include "solve/uncertainty.hpp"
 
@@ -207,7 +208,13 @@ class Regression {
         total.count[g] += b.count[g];
       }
     }
-    if (normal_equations) total.H = total.H.selfadjointView<Eigen::Lower>();
+    // The joint-origin prior (MAP), as in every solver (origin_prior.hpp).
+    const ThetaSpace& space = model_.thetaSpace();
+    total.cost += originPriorCost(space, p.theta);
+    if (normal_equations) {
+      total.H = total.H.selfadjointView<Eigen::Lower>();
+      addOriginPrior(space, p.theta, &total.H, &total.g);
+    }
     return total;
   }
 

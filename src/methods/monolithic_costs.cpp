@@ -29,18 +29,26 @@ Eigen::Matrix3d quaternionMatrix(const double* quat) {
 
 }  // namespace
 
-KinematicsCache::KinematicsCache(const RobotModel& robot, const RowMatrix* q, int threads)
-    : robot_(robot), q_(q), threads_(threads), frames_(q->rows(), KinematicsWorkspace(robot)) {}
+KinematicsCache::KinematicsCache(const RobotModel& robot, const RowMatrix* q, int threads,
+                                 std::vector<int> origin_links, const double* origins)
+    : robot_(robot), q_(q), threads_(threads), origin_links_(std::move(origin_links)),
+      origins_(origins), frames_(q->rows(), KinematicsWorkspace(robot)) {}
 
 void KinematicsCache::PrepareForEvaluation(bool /*evaluate_jacobians*/,
                                            bool new_evaluation_point) {
   if (!new_evaluation_point && valid_) return;
   const int T = static_cast<int>(q_->rows());
+  std::vector<OriginCorrection> corrections(origin_links_.size());
+  for (size_t c = 0; c < corrections.size(); ++c) {
+    corrections[c].xyz = Eigen::Map<const Eigen::Vector3d>(origins_ + 6 * c);
+    corrections[c].rpy = Eigen::Map<const Eigen::Vector3d>(origins_ + 6 * c + 3);
+  }
   parallelFor(numChunks(T), threads_, [&](int chunk, int) {
     Eigen::VectorXd qt(robot_.dof());
     const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
     for (int t = chunk * kFramesPerChunk; t < end; ++t) {
       qt = q_->row(t).transpose();
+      setOriginCorrections(robot_, origin_links_, corrections, &frames_[t]);
       forwardKinematics(robot_, qt, &frames_[t]);
     }
   });
@@ -49,10 +57,12 @@ void KinematicsCache::PrepareForEvaluation(bool /*evaluate_jacobians*/,
 
 MarkerReadingCost::MarkerReadingCost(const RobotModel& robot, const KinematicsCache& cache,
                                      int frame, int link, const Eigen::Vector3d& x,
-                                     double sigma)
-    : robot_(robot), cache_(cache), frame_(frame), link_(link), x_(x), inv_(1.0 / sigma) {
+                                     double sigma, std::vector<int> origins)
+    : robot_(robot), cache_(cache), frame_(frame), link_(link), x_(x), inv_(1.0 / sigma),
+      origins_(std::move(origins)) {
   set_num_residuals(3);
   *mutable_parameter_block_sizes() = {robot.dof(), 4, 3, 3};
+  for (size_t i = 0; i < origins_.size(); ++i) mutable_parameter_block_sizes()->push_back(6);
 }
 
 ceres::CostFunction* MarkerReadingCost::Create(const RobotModel& robot,
@@ -93,17 +103,44 @@ bool MarkerReadingCost::Evaluate(double const* const* p, double* residuals,
     Eigen::Map<Rows33> J(jac[3]);
     J = inv_ * R * ws.link_pose[link_].linear();
   }
+  for (size_t i = 0; i < origins_.size(); ++i) {
+    if (!jac[4 + i]) continue;
+    Eigen::Matrix<double, 3, 6> Jo = Eigen::Matrix<double, 3, 6>::Zero();
+    addOriginJacobian(ws, origins_[i], xb, 1.0, Jo);
+    Eigen::Map<Eigen::Matrix<double, 3, 6, Eigen::RowMajor>> J(jac[4 + i]);
+    J = inv_ * R * Jo;
+  }
+  return true;
+}
+
+OriginPriorCost::OriginPriorCost(double xyz_std, double rpy_std) {
+  for (int k = 0; k < 6; ++k) {
+    const double s = k < 3 ? xyz_std : rpy_std;
+    inv_[k] = s > 0 ? 1.0 / s : 0.0;
+  }
+}
+
+bool OriginPriorCost::Evaluate(double const* const* p, double* residuals, double** jac) const {
+  for (int k = 0; k < 6; ++k) residuals[k] = inv_[k] * p[0][k];
+  if (jac && jac[0]) {
+    Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> J(jac[0]);
+    J.setZero();
+    for (int k = 0; k < 6; ++k) J(k, k) = inv_[k];
+  }
   return true;
 }
 
 ScalarReadingCost::ScalarReadingCost(const RobotModel& robot, const KinematicsCache& cache,
                                      int frame, const JointSensorConfig* joint,
-                                     const TendonSensorConfig* tendon, double p, double sigma)
+                                     const TendonSensorConfig* tendon, double p, double sigma,
+                                     std::vector<int> origins,
+                                     std::vector<std::vector<int>> anchor_slots)
     : robot_(robot), cache_(cache), frame_(frame), joint_(joint), tendon_(tendon), p_(p),
-      inv_(1.0 / sigma) {
+      inv_(1.0 / sigma), origins_(std::move(origins)), anchor_slots_(std::move(anchor_slots)) {
   assert((joint == nullptr) != (tendon == nullptr));
   set_num_residuals(1);
   *mutable_parameter_block_sizes() = {robot.dof(), 2};
+  for (size_t i = 0; i < origins_.size(); ++i) mutable_parameter_block_sizes()->push_back(6);
 }
 
 ceres::CostFunction* ScalarReadingCost::Create(const RobotModel& robot,
@@ -142,6 +179,11 @@ bool ScalarReadingCost::Evaluate(double const* const* p, double* residuals,
     jac[1][0] = inv_ * value;
     jac[1][1] = inv_;
   }
+  if (origins_.empty()) return true;
+  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(6 * origins_.size());
+  tendon_sensor::addOriginLengthJacobian(*tendon_, ws, origins_, anchor_slots_, inv_ * gain, row);
+  for (size_t i = 0; i < origins_.size(); ++i)
+    if (jac[2 + i]) std::copy(row.data() + 6 * i, row.data() + 6 * i + 6, jac[2 + i]);
   return true;
 }
 

@@ -30,9 +30,14 @@ namespace stac::monolithic {
 // (q points at the matrix whose rows are the q_t blocks) and before it
 // evaluates any residual, so FK runs once per frame and point, in parallel,
 // and the const Evaluate calls only read it.
+//
+// Joint-origin corrections (joint_origins.hpp) are parameter blocks of 6
+// (x, y, z, roll, pitch, yaw) at `origins` (one buffer, origin_links.size()
+// blocks); FK applies their current values.
 class KinematicsCache : public ceres::EvaluationCallback {
  public:
-  KinematicsCache(const RobotModel& robot, const RowMatrix* q, int threads);
+  KinematicsCache(const RobotModel& robot, const RowMatrix* q, int threads,
+                  std::vector<int> origin_links = {}, const double* origins = nullptr);
 
   void PrepareForEvaluation(bool evaluate_jacobians, bool new_evaluation_point) override;
 
@@ -42,6 +47,8 @@ class KinematicsCache : public ceres::EvaluationCallback {
   const RobotModel& robot_;
   const RowMatrix* q_;
   int threads_;
+  std::vector<int> origin_links_;
+  const double* origins_;
   std::vector<KinematicsWorkspace> frames_;
   bool valid_ = false;
 };
@@ -60,10 +67,14 @@ class KinematicsCache : public ceres::EvaluationCallback {
 // R(ρ) normalises ρ while dr/dρ is the derivative of the quadratic form
 // above; the two agree on the tangent space of the unit sphere, which is all
 // the solver sees through the QuaternionManifold. FK comes from the cache.
+//
+// With joint-origin corrections upstream of link k (`origins`, indices of
+// the cache's corrections), one more block of 6 per correction c:
+//   dr/dc = R dx_b/dc / σ        (kinematics.hpp addOriginJacobian)
 class MarkerReadingCost : public ceres::CostFunction {
  public:
   MarkerReadingCost(const RobotModel& robot, const KinematicsCache& cache, int frame, int link,
-                    const Eigen::Vector3d& x, double sigma);
+                    const Eigen::Vector3d& x, double sigma, std::vector<int> origins = {});
 
   static ceres::CostFunction* Create(const RobotModel& robot, const KinematicsCache& cache,
                                      int frame, int link, const Eigen::Vector3d& x,
@@ -77,6 +88,18 @@ class MarkerReadingCost : public ceres::CostFunction {
   int frame_, link_;
   Eigen::Vector3d x_;
   double inv_;
+  std::vector<int> origins_;
+};
+
+// The origin prior of one joint's correction c (SPEC §3 prior_std):
+//   r_k = c_k / σ_k   (6 residuals; 0 where that part has no prior)
+class OriginPriorCost : public ceres::SizedCostFunction<6, 6> {
+ public:
+  OriginPriorCost(double xyz_std, double rpy_std);
+  bool Evaluate(double const* const* p, double* residuals, double** jac) const override;
+
+ private:
+  double inv_[6];
 };
 
 // A scalar reading p of frame t (a joint sensor or a tendon sensor):
@@ -92,11 +115,17 @@ class MarkerReadingCost : public ceres::CostFunction {
 //   dr/d(g, b) = (v, 1) / σ
 //
 // Exactly one of joint and tendon is set. Tendon lengths read the cache.
+//
+// A path whose anchors joint-origin corrections move (`origins`, indices of
+// the cache's corrections; `anchor_slots[k]`, those of anchor k as
+// positions in `origins`) has one more block of 6 per correction c:
+//   dr/dc = g dL/dc / σ          (sensor_models.hpp addOriginLengthJacobian)
 class ScalarReadingCost : public ceres::CostFunction {
  public:
   ScalarReadingCost(const RobotModel& robot, const KinematicsCache& cache, int frame,
                     const JointSensorConfig* joint, const TendonSensorConfig* tendon, double p,
-                    double sigma);
+                    double sigma, std::vector<int> origins = {},
+                    std::vector<std::vector<int>> anchor_slots = {});
 
   static ceres::CostFunction* Create(const RobotModel& robot, const KinematicsCache& cache,
                                      int frame, const JointSensorConfig* joint,
@@ -111,6 +140,8 @@ class ScalarReadingCost : public ceres::CostFunction {
   const JointSensorConfig* joint_;
   const TendonSensorConfig* tendon_;
   double p_, inv_;
+  std::vector<int> origins_;
+  std::vector<std::vector<int>> anchor_slots_;
 };
 
 }  // namespace stac::monolithic

@@ -33,7 +33,8 @@ using monolithic::ScalarReadingCost;
 namespace {
 
 // θ's parameter blocks in one buffer, in θ's order: rotation (w, x, y, z) |
-// translation | marker positions | joint (gain, bias) | tendon (gain, bias).
+// translation | marker positions | joint (gain, bias) | tendon (gain, bias) |
+// joint-origin corrections (x, y, z, roll, pitch, yaw).
 // Ceres orders a group's blocks by address, so keeping them in one buffer
 // makes that order (and the rounding of the reduced system) the same
 // wherever the heap puts them. Stable addresses: Ceres keeps raw pointers.
@@ -41,7 +42,8 @@ class ThetaBlocks {
  public:
   explicit ThetaBlocks(const SensorParameters& theta)
       : markers_(theta.marker_position.size()), joints_(theta.joint_sensor.size()),
-        values_(7 + 3 * markers_ + 2 * joints_ + 2 * theta.tendon_sensor.size()) {
+        tendons_(theta.tendon_sensor.size()),
+        values_(7 + 3 * markers_ + 2 * joints_ + 2 * tendons_ + 6 * theta.joint_origin.size()) {
     const Eigen::Quaterniond& r = theta.mocap.rotation;
     values_[0] = r.w(), values_[1] = r.x(), values_[2] = r.y(), values_[3] = r.z();
     for (int i = 0; i < 3; ++i) translation()[i] = theta.mocap.translation[i];
@@ -51,12 +53,18 @@ class ThetaBlocks {
       joint(s)[0] = theta.joint_sensor[s].gain, joint(s)[1] = theta.joint_sensor[s].bias;
     for (size_t s = 0; s < theta.tendon_sensor.size(); ++s)
       tendon(s)[0] = theta.tendon_sensor[s].gain, tendon(s)[1] = theta.tendon_sensor[s].bias;
+    for (size_t c = 0; c < theta.joint_origin.size(); ++c)
+      for (int i = 0; i < 3; ++i)
+        origin(c)[i] = theta.joint_origin[c].xyz[i], origin(c)[3 + i] = theta.joint_origin[c].rpy[i];
   }
   double* rotation() { return values_.data(); }
   double* translation() { return values_.data() + 4; }
   double* marker(size_t m) { return values_.data() + 7 + 3 * m; }
   double* joint(size_t s) { return values_.data() + 7 + 3 * markers_ + 2 * s; }
   double* tendon(size_t s) { return values_.data() + 7 + 3 * markers_ + 2 * joints_ + 2 * s; }
+  double* origin(size_t c) {
+    return values_.data() + 7 + 3 * markers_ + 2 * joints_ + 2 * tendons_ + 6 * c;
+  }
 
   void copyTo(SensorParameters* theta) {
     const double* q = rotation();
@@ -67,10 +75,14 @@ class ThetaBlocks {
     for (size_t s = 0; s < joints_; ++s) theta->joint_sensor[s] = {joint(s)[0], joint(s)[1]};
     for (size_t s = 0; s < theta->tendon_sensor.size(); ++s)
       theta->tendon_sensor[s] = {tendon(s)[0], tendon(s)[1]};
+    for (size_t c = 0; c < theta->joint_origin.size(); ++c) {
+      theta->joint_origin[c].xyz = Eigen::Map<const Eigen::Vector3d>(origin(c));
+      theta->joint_origin[c].rpy = Eigen::Map<const Eigen::Vector3d>(origin(c) + 3);
+    }
   }
 
  private:
-  size_t markers_, joints_;
+  size_t markers_, joints_, tendons_;
   std::vector<double> values_;
 };
 
@@ -85,10 +97,13 @@ void addFrame(const MeasurementModel& model, const NoiseModel& noise, const Obse
   for (size_t m = 0; m < sensors.markers.size(); ++m) {
     const double* x = xm + 3 * m;
     if (std::isnan(x[0])) continue;
+    const std::vector<int>& origins = model.markerOrigins(static_cast<int>(m));
+    std::vector<double*> blocks = {qt, theta->rotation(), theta->translation(), theta->marker(m)};
+    for (int c : origins) blocks.push_back(theta->origin(c));
     problem->AddResidualBlock(
         new MarkerReadingCost(robot, cache, t, sensors.markers[m].link,
-                              Eigen::Vector3d(x[0], x[1], x[2]), noise.marker[m]),
-        loss, qt, theta->rotation(), theta->translation(), theta->marker(m));
+                              Eigen::Vector3d(x[0], x[1], x[2]), noise.marker[m], origins),
+        loss, blocks);
   }
   for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
     const double p = obs.joint(t, s);
@@ -100,10 +115,14 @@ void addFrame(const MeasurementModel& model, const NoiseModel& noise, const Obse
   for (size_t s = 0; s < sensors.tendon_sensors.size(); ++s) {
     const double p = obs.tendon(t, s);
     if (std::isnan(p)) continue;
+    const int si = static_cast<int>(s);
+    std::vector<double*> blocks = {qt, theta->tendon(s)};
+    for (int c : model.tendonOrigins(si)) blocks.push_back(theta->origin(c));
     problem->AddResidualBlock(new ScalarReadingCost(robot, cache, t, nullptr,
-                                                    &sensors.tendon_sensors[s], p,
-                                                    noise.tendon[s]),
-                              loss, qt, theta->tendon(s));
+                                                    &sensors.tendon_sensors[s], p, noise.tendon[s],
+                                                    model.tendonOrigins(si),
+                                                    model.anchorOriginSlots(si)),
+                              loss, blocks);
   }
   if (problem->HasParameterBlock(qt)) order->AddElementToGroup(qt, 0);
 }
@@ -133,6 +152,20 @@ void addThetaBlocks(const SensorSet& sensors, ThetaBlocks* theta, ceres::Problem
     gainBias(theta->joint(s), sensors.joint_sensors[s].fixed);
   for (size_t s = 0; s < sensors.tendon_sensors.size(); ++s)
     gainBias(theta->tendon(s), sensors.tendon_sensors[s].fixed);
+  // Joint-origin corrections: a part held by a SubsetManifold, the prior a
+  // residual block of its own.
+  const OriginPrior& prior = sensors.origin_prior;
+  for (size_t c = 0; c < sensors.joint_origins.size(); ++c) {
+    double* b = theta->origin(c);
+    const FixedOrigin& fixed = sensors.joint_origins[c].fixed;
+    if (!problem->HasParameterBlock(b)) continue;
+    if (prior.any() && !fixed.all())
+      problem->AddResidualBlock(new monolithic::OriginPriorCost(prior.xyz, prior.rpy), nullptr, b);
+    block(b, fixed.all());
+    if (fixed.any() && !fixed.all())
+      problem->SetManifold(b, new ceres::SubsetManifold(6, fixed.xyz ? std::vector<int>{0, 1, 2}
+                                                                     : std::vector<int>{3, 4, 5}));
+  }
 }
 
 ceres::Solver::Options solverOptions(const CalibrationOptions& options, int threads,
@@ -159,8 +192,10 @@ void solveMonolithic(const MeasurementModel& model, const NoiseModel& noise,
                        const CalibrationOptions& options, SensorParameters* theta,
                        QState* state, int* iterations, bool* converged) {
   const int threads = resolveThreads(options.threads);
-  auto cache = std::make_unique<KinematicsCache>(model.robot(), &state->q, threads);
   ThetaBlocks blocks(*theta);
+  auto cache = std::make_unique<KinematicsCache>(
+      model.robot(), &state->q, threads, model.thetaSpace().originLinks(),
+      model.sensors().joint_origins.empty() ? nullptr : blocks.origin(0));
   ceres::Problem::Options po;
   po.evaluation_callback = cache.get();
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;

@@ -32,6 +32,28 @@ SensorSet withFinalNoise(const SensorSet& sensors, const Outcome& out) {
   return s;
 }
 
+// With a prior on the joint-origin corrections: per joint, the free
+// components the data determines (posterior std below half the prior's)
+// and those that stay on the prior.
+std::vector<OriginDetermination> originDetermination(const ThetaSpace& space,
+                                                     const Eigen::VectorXd& std) {
+  static const char* kComponent[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+  std::vector<OriginDetermination> out;
+  const SensorSet& sensors = space.sensors();
+  for (size_t c = 0; c < sensors.joint_origins.size(); ++c) {
+    OriginDetermination d;
+    d.joint = sensors.joint_origins[c].joint_name;
+    for (int k = 0; k < 6; ++k) {
+      const int i = space.originOffset(static_cast<int>(c)) + k;
+      const double prior = space.priorStd(i);
+      if (!space.free()[i] || !(prior > 0)) continue;
+      (std[i] < 0.5 * prior ? d.determined : d.on_prior).push_back(kComponent[k]);
+    }
+    if (!d.determined.empty() || !d.on_prior.empty()) out.push_back(std::move(d));
+  }
+  return out;
+}
+
 }  // namespace
 
 CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* joint_angles) {
@@ -65,6 +87,8 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   std::copy(out.before_rms, out.before_rms + kNumSensorGroups, summary.before_rms);
   std::copy(out.after_rms, out.after_rms + kNumSensorGroups, summary.after_rms);
   summary.unidentifiable = std::move(out.uncertainty.unidentifiable);
+  if (out.uncertainty.std.size() == model.thetaSpace().size())
+    summary.origins = originDetermination(model.thetaSpace(), out.uncertainty.std);
   summary.downweighted = downweightedReadings(problem.on(fitted), result.theta, out.noise, q,
                                               in.options.max_downweighted);
   const std::vector<bool>* defining = out.defining_joint.empty() ? nullptr : &out.defining_joint;

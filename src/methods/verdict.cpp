@@ -6,6 +6,7 @@
 #include <tuple>
 #include <utility>
 
+#include "methods/origin_verdict.hpp"
 #include "model/prediction_errors.hpp"
 #include "solve/parallel.hpp"
 #include "solve/q_phase.hpp"
@@ -176,6 +177,7 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out,
     checkMedians(in, out, r, &why);
   }
   checkMarkers(in, r, &why);
+  checkJointOrigins(r.sensors, r.theta, &why);
   return why;
 }
 

@@ -57,8 +57,37 @@ MeasurementModel::MeasurementModel(const RobotModel& robot, const SensorSet& sen
     joint_cols_.push_back({joint_sensor::column(robot, s)});
   for (const TendonSensorConfig& s : sensors.tendon_sensors)
     tendon_cols_.push_back(tendon_sensor::columns(robot, s));
+  resolveOrigins();
   num_sensors_ = static_cast<int>(sensors.markers.size() + sensors.joint_sensors.size() +
                                   sensors.tendon_sensors.size());
+}
+
+void MeasurementModel::resolveOrigins() {
+  const std::vector<int>& links = theta_space_.originLinks();
+  for (const MarkerConfig& m : sensors_->markers) {
+    marker_origins_.push_back(supportingCorrections(*robot_, links, m.link));
+    theta_width_ = std::max(theta_width_, 9 + 6 * static_cast<int>(marker_origins_.back().size()));
+  }
+  for (const TendonSensorConfig& s : sensors_->tendon_sensors) {
+    std::vector<int> all;
+    std::vector<std::vector<int>> per_anchor;
+    for (const PathAnchor& a : s.path) {
+      per_anchor.push_back(supportingCorrections(*robot_, links, a.link));
+      for (int c : per_anchor.back())
+        if (std::find(all.begin(), all.end(), c) == all.end()) all.push_back(c);
+    }
+    for (std::vector<int>& anchor : per_anchor)
+      for (int& c : anchor) c = static_cast<int>(std::find(all.begin(), all.end(), c) - all.begin());
+    theta_width_ = std::max(theta_width_, 2 + 6 * static_cast<int>(all.size()));
+    tendon_origins_.push_back(std::move(all));
+    anchor_slots_.push_back(std::move(per_anchor));
+  }
+}
+
+void applyJointOrigins(const MeasurementModel& model, const SensorParameters& theta,
+                       KinematicsWorkspace* ws) {
+  if (model.sensors().joint_origins.empty() && ws->applied.empty()) return;
+  setOriginCorrections(model.robot(), model.thetaSpace().originLinks(), theta.joint_origin, ws);
 }
 
 FrameReadings frameReadings(const Observations& obs, int t) {
@@ -81,7 +110,11 @@ FrameWorkspace::FrameWorkspace(const MeasurementModel& model)
     widest = std::max(widest, model.markerColumns(static_cast<int>(m)).size());
   for (size_t j = 0; j < s.tendon_sensors.size(); ++j)
     widest = std::max(widest, model.tendonColumns(static_cast<int>(j)).size());
-  for (ReadingJacobian& r : readings) r.Jq.resize(3, static_cast<Eigen::Index>(widest));
+  for (ReadingJacobian& r : readings) {
+    r.Jq.resize(3, static_cast<Eigen::Index>(widest));
+    r.theta_index.assign(model.thetaWidthMax(), 0);
+    r.Jtheta.setZero(3, model.thetaWidthMax());
+  }
 }
 
 namespace {
@@ -160,6 +193,33 @@ void markerReading(const MeasurementModel& model, const SensorParameters& theta,
   rj->Jtheta.block<3, 3>(0, 0) = inv * marker_sensor::rotationJacobian(R, xb);
   rj->Jtheta.block<3, 3>(0, 3) = inv * Eigen::Matrix3d::Identity();
   rj->Jtheta.block<3, 3>(0, 6) = inv * (R * ws->kin.link_pose[mc.link].linear());
+  // Joint-origin corrections upstream of the marker: R d(x_b)/d(correction).
+  const ThetaSpace& space = model.thetaSpace();
+  for (int c : model.markerOrigins(m)) {
+    const int col = rj->theta_count;
+    for (int i = 0; i < 6; ++i) rj->theta_index[col + i] = space.originOffset(c) + i;
+    Eigen::Matrix<double, 3, 6> J = Eigen::Matrix<double, 3, 6>::Zero();
+    addOriginJacobian(ws->kin, c, xb, 1.0, J);
+    rj->Jtheta.block<3, 6>(0, col) = (inv * R) * J;
+    rj->theta_count += 6;
+  }
+}
+
+// A path tendon's dL/d(correction) for the corrections that move its
+// anchors, times `scale`, into rj's θ-Jacobian after its (gain, bias).
+void tendonOriginJacobian(const MeasurementModel& model, int s, const KinematicsWorkspace& kin,
+                          double scale, ReadingJacobian* rj) {
+  const std::vector<int>& origins = model.tendonOrigins(s);
+  if (origins.empty()) return;
+  const int first = rj->theta_count, width = 6 * static_cast<int>(origins.size());
+  for (size_t i = 0; i < origins.size(); ++i)
+    for (int k = 0; k < 6; ++k)
+      rj->theta_index[first + 6 * i + k] = model.thetaSpace().originOffset(origins[i]) + k;
+  rj->Jtheta.block(0, first, 3, width).setZero();
+  tendon_sensor::addOriginLengthJacobian(model.sensors().tendon_sensors[s], kin, origins,
+                                         model.anchorOriginSlots(s), scale,
+                                         rj->Jtheta.row(0).segment(first, width));
+  rj->theta_count += width;
 }
 
 // A linear sensor's reading p of `value`: r = (g value + b - p) w / σ and
@@ -236,6 +296,7 @@ void tendonReadings(const MeasurementModel& model, const SensorParameters& theta
     const double inv = w / noise.tendon[s];
     gainBiasReading(SensorGroup::kTendon, si, gb, tendon_sensor::length(robot, sc, ws->kin), p,
                     inv, model.thetaSpace().tendonOffset(si), options.theta_jacobians, &rj);
+    if (options.theta_jacobians) tendonOriginJacobian(model, si, ws->kin, inv * gb.gain, &rj);
     const std::vector<int>& cols = model.tendonColumns(si);
     rj.q_cols = &cols;
     if (options.jacobians) {
@@ -254,6 +315,7 @@ double evaluateFrame(const MeasurementModel& model, const SensorParameters& thet
                      const NoiseModel& noise, const RobustLoss& loss,
                      const FrameReadings& readings, const Eigen::VectorXd& q,
                      const FrameOptions& options, FrameWorkspace* ws) {
+  applyJointOrigins(model, theta, &ws->kin);
   forwardKinematics(model.robot(), q, &ws->kin);
   int k = 0;
   double cost = 0.0;
@@ -273,6 +335,7 @@ void predictFrame(const MeasurementModel& model, const SensorParameters& theta,
                   double* marker, double* joint, double* tendon) {
   const RobotModel& robot = model.robot();
   const SensorSet& sensors = model.sensors();
+  applyJointOrigins(model, theta, ws);
   forwardKinematics(robot, q, ws);
   const Eigen::Matrix3d R = theta.mocap.rotation.toRotationMatrix();
   for (size_t m = 0; m < sensors.markers.size(); ++m) {

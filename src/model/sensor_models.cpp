@@ -53,6 +53,27 @@ void addLengthJacobian(const RobotModel& robot, const TendonSensorConfig& s,
   }
 }
 
+void addOriginLengthJacobian(const TendonSensorConfig& s, const KinematicsWorkspace& ws,
+                             const std::vector<int>& origins,
+                             const std::vector<std::vector<int>>& anchor_slots, double scale,
+                             Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row) {
+  for (size_t k = 0; k + 1 < s.path.size(); ++k) {
+    const Eigen::Vector3d a = ws.link_pose[s.path[k].link] * s.path[k].point;
+    const Eigen::Vector3d b = ws.link_pose[s.path[k + 1].link] * s.path[k + 1].point;
+    const double n = (b - a).norm();
+    if (n < 1e-12) continue;  // coincident anchors: L is not differentiable
+    const Eigen::RowVector3d u = (b - a).transpose() / n;
+    for (int end = 0; end < 2; ++end) {
+      const Eigen::Vector3d& point = end ? b : a;
+      for (int slot : anchor_slots[k + end]) {
+        Eigen::Matrix<double, 3, 6> J = Eigen::Matrix<double, 3, 6>::Zero();
+        addOriginJacobian(ws, origins[slot], point, 1.0, J);
+        row.segment<6>(6 * slot) += (end ? scale : -scale) * (u * J);
+      }
+    }
+  }
+}
+
 std::vector<int> columns(const RobotModel& robot, const TendonSensorConfig& s) {
   std::vector<int> cols;
   if (s.kind == TendonSensorConfig::Kind::kCoupling) {

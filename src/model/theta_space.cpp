@@ -31,6 +31,14 @@ ThetaSpace::ThetaSpace(const SensorSet& sensors) : sensors_(&sensors) {
   tendon_offset_ = static_cast<int>(names_.size());
   for (const TendonSensorConfig& s : sensors.tendon_sensors)
     gainBias("tendon_sensors." + s.name, s.fixed);
+  origin_offset_ = static_cast<int>(names_.size());
+  for (const JointOriginConfig& o : sensors.joint_origins) {
+    origin_links_.push_back(o.link);
+    for (const char* axis : {"x", "y", "z"})
+      add("joint_origins." + o.joint_name + ".xyz." + axis, !o.fixed.xyz);
+    for (const char* axis : {"roll", "pitch", "yaw"})
+      add("joint_origins." + o.joint_name + ".rpy." + axis, !o.fixed.rpy);
+  }
   size_ = static_cast<int>(names_.size());
   free_position_.assign(size_, -1);
   for (int i = 0; i < size_; ++i)
@@ -58,7 +66,15 @@ ThetaEntry ThetaSpace::entry(int i) const {
   if (i < joint_offset_) return {ThetaBlock::kMarker, (i - 6) / 3, (i - 6) % 3};
   if (i < tendon_offset_)
     return {ThetaBlock::kJointSensor, (i - joint_offset_) / 2, (i - joint_offset_) % 2};
-  return {ThetaBlock::kTendonSensor, (i - tendon_offset_) / 2, (i - tendon_offset_) % 2};
+  if (i < origin_offset_)
+    return {ThetaBlock::kTendonSensor, (i - tendon_offset_) / 2, (i - tendon_offset_) % 2};
+  return {ThetaBlock::kJointOrigin, (i - origin_offset_) / 6, (i - origin_offset_) % 6};
+}
+
+double ThetaSpace::priorStd(int i) const {
+  if (i < origin_offset_) return 0.0;
+  const OriginPrior& p = sensors_->origin_prior;
+  return (i - origin_offset_) % 6 < 3 ? p.xyz : p.rpy;
 }
 
 SensorParameters ThetaSpace::plus(const SensorParameters& theta,
@@ -79,6 +95,10 @@ SensorParameters ThetaSpace::plus(const SensorParameters& theta,
   for (size_t s = 0; s < out.tendon_sensor.size(); ++s) {
     out.tendon_sensor[s].gain += delta[tendonOffset(static_cast<int>(s))];
     out.tendon_sensor[s].bias += delta[tendonOffset(static_cast<int>(s)) + 1];
+  }
+  for (size_t c = 0; c < out.joint_origin.size(); ++c) {
+    out.joint_origin[c].xyz += delta.segment<3>(originOffset(static_cast<int>(c)));
+    out.joint_origin[c].rpy += delta.segment<3>(originOffset(static_cast<int>(c)) + 3);
   }
   return out;
 }
@@ -109,6 +129,11 @@ Eigen::VectorXd ThetaSpace::minus(const SensorParameters& a, const SensorParamet
     d[tendonOffset(static_cast<int>(s))] = a.tendon_sensor[s].gain - b.tendon_sensor[s].gain;
     d[tendonOffset(static_cast<int>(s)) + 1] = a.tendon_sensor[s].bias - b.tendon_sensor[s].bias;
   }
+  for (size_t c = 0; c < a.joint_origin.size(); ++c) {
+    d.segment<3>(originOffset(static_cast<int>(c))) = a.joint_origin[c].xyz - b.joint_origin[c].xyz;
+    d.segment<3>(originOffset(static_cast<int>(c)) + 3) =
+        a.joint_origin[c].rpy - b.joint_origin[c].rpy;
+  }
   return d;
 }
 
@@ -126,6 +151,10 @@ double ThetaSpace::value(const SensorParameters& theta, int i) const {
     case ThetaBlock::kTendonSensor:
       return e.component == 0 ? theta.tendon_sensor[e.item].gain
                               : theta.tendon_sensor[e.item].bias;
+    case ThetaBlock::kJointOrigin: {
+      const OriginCorrection& o = theta.joint_origin[e.item];
+      return e.component < 3 ? o.xyz[e.component] : o.rpy[e.component - 3];
+    }
   }
   return 0.0;
 }
@@ -148,6 +177,10 @@ Eigen::VectorXd ThetaSpace::scale(const SensorParameters& theta) const {
     scale[tendonOffset(static_cast<int>(s))] = 0.1 * g;
     scale[tendonOffset(static_cast<int>(s)) + 1] = 0.01 * g;
   }
+  // Origin corrections: millimetres and milliradians are what machining
+  // and assembly leave; 1 cm and 0.01 rad (~0.6°) compare them.
+  for (size_t c = 0; c < sensors_->joint_origins.size(); ++c)
+    scale.segment<6>(originOffset(static_cast<int>(c))).setConstant(0.01);
   return scale;
 }
 
@@ -165,6 +198,10 @@ ParameterStd ThetaSpace::toParameterStd(const Eigen::VectorXd& std) const {
     const int o = tendonOffset(static_cast<int>(j));
     p.tendon_sensor.push_back({std[o], std[o + 1]});
   }
+  for (size_t c = 0; c < sensors_->joint_origins.size(); ++c) {
+    const int o = originOffset(static_cast<int>(c));
+    p.joint_origin.push_back({std.segment<3>(o), std.segment<3>(o + 3)});
+  }
   return p;
 }
 
@@ -174,6 +211,9 @@ std::string ThetaSpace::ownerKey(int i) const {
     case ThetaBlock::kMocapRotation: return "mocap.frame.rotation";
     case ThetaBlock::kMocapTranslation: return "mocap.frame.translation";
     case ThetaBlock::kMarker: return "markers." + sensors_->markers[e.item].name + ".position";
+    case ThetaBlock::kJointOrigin:
+      return "joint_origins." + sensors_->joint_origins[e.item].joint_name +
+             (e.component < 3 ? ".xyz" : ".rpy");
     default: return names_[i];
   }
 }
@@ -189,6 +229,9 @@ std::string ThetaSpace::ownerPhrase(int i) const {
       return std::string(part) + " of " + sensors_->joint_sensors[e.item].name;
     case ThetaBlock::kTendonSensor:
       return std::string(part) + " of " + sensors_->tendon_sensors[e.item].name;
+    case ThetaBlock::kJointOrigin:
+      return std::string(e.component < 3 ? "origin translation" : "origin rotation") + " of " +
+             sensors_->joint_origins[e.item].joint_name;
   }
   return names_[i];
 }

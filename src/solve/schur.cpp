@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "solve/lm_damping.hpp"
+#include "solve/origin_prior.hpp"
 #include "solve/parallel.hpp"
 
 namespace stac {
@@ -250,6 +251,8 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
       rs.g = reducedGradient(model, *theta, noise, loss, obs, state->q, *lambda, free_of, nf,
                              threads, ws, groups, first, &rs.cost);
     }
+    addOriginPrior(space, *theta, &rs.S, &rs.g);  // MAP: the same posterior as every solver
+    rs.cost += originPriorCost(space, *theta);
     if (old_cost < 0) old_cost = rs.cost;
     Eigen::MatrixXd A = rs.S;
     addDamping(*lambda, rs.S, &A);  // rs.S's diagonal is rs.H_diag
@@ -263,7 +266,8 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     const SensorParameters theta_new = space.plus(*theta, dfull);
     QState trial;
     trial.q = q_new;
-    const double c = totalCost(model, theta_new, noise, loss, obs, groups, threads, ws, &trial);
+    const double c = totalCost(model, theta_new, noise, loss, obs, groups, threads, ws, &trial) +
+                     originPriorCost(space, theta_new);
     if (c < old_cost) {
       *theta = theta_new;
       state->q = std::move(q_new);

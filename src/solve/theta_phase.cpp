@@ -140,7 +140,8 @@ std::optional<MocapFrame> procrustes(const std::vector<Eigen::Vector3d>& a,
 }
 
 MarkerPoseCache cacheMarkerPoses(const MeasurementModel& model, const RowMatrix& q,
-                                 int threads, std::vector<FrameWorkspace>* ws) {
+                                 int threads, std::vector<FrameWorkspace>* ws,
+                                 const SensorParameters* theta) {
   const int T = static_cast<int>(q.rows());
   const int M = static_cast<int>(model.sensors().markers.size());
   MarkerPoseCache cache;
@@ -151,6 +152,10 @@ MarkerPoseCache cacheMarkerPoses(const MeasurementModel& model, const RowMatrix&
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
   parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
     KinematicsWorkspace& kin = (*ws)[tid].kin;
+    if (theta)
+      applyJointOrigins(model, *theta, &kin);
+    else
+      setOriginCorrections(model.robot(), {}, {}, &kin);
     Eigen::VectorXd qt(model.dof());
     const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
     for (int t = chunk * kFramesPerChunk; t < end; ++t) {
@@ -378,6 +383,7 @@ ThetaPhaseReport thetaPhase(const MeasurementModel& model, const NoiseModel& noi
     RowMatrix L(T, S);
     parallelFor(numChunks(T), threads, [&](int chunk, int tid) {
       KinematicsWorkspace& kin = (*workspaces)[tid].kin;
+      applyJointOrigins(model, *theta, &kin);
       Eigen::VectorXd qt(model.dof());
       const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
       for (int t = chunk * kFramesPerChunk; t < end; ++t) {
@@ -399,7 +405,7 @@ ThetaPhaseReport thetaPhase(const MeasurementModel& model, const NoiseModel& noi
   }
 
   if (options.update[0] && !sensors.markers.empty()) {
-    const MarkerPoseCache poses = cacheMarkerPoses(model, state.q, threads, workspaces);
+    const MarkerPoseCache poses = cacheMarkerPoses(model, state.q, threads, workspaces, theta);
     markerGroupGaussNewton(model, noise, loss, obs, poses,
                            options.marker_gauss_newton_steps, theta);
   }
@@ -413,7 +419,7 @@ void initialiseMarkerGroup(const MeasurementModel& model, const Observations& ob
   const SensorSet& sensors = model.sensors();
   const int M = static_cast<int>(sensors.markers.size());
   if (M == 0) return;
-  const MarkerPoseCache poses = cacheMarkerPoses(model, state.q, threads, workspaces);
+  const MarkerPoseCache poses = cacheMarkerPoses(model, state.q, threads, workspaces, theta);
   for (int round = 0; round < rounds; ++round) {
     if (!sensors.mocap_frame_fixed.all()) {
       // Eq. 13-16 over every (frame, marker) reading.

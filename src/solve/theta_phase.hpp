@@ -55,14 +55,16 @@ std::optional<MocapFrame> procrustes(const std::vector<Eigen::Vector3d>& a,
                                      const FixedFrame& fixed);
 
 // Link poses (in the base frame) of every marker in every frame, cached once
-// per θ-phase: T x markers.
+// per θ-phase: T x markers; with θ's joint-origin corrections when theta is
+// given (else the URDF as is).
 struct MarkerPoseCache {
   int markers = 0;
   std::vector<Eigen::Matrix3d> rotation;     // [t * markers + m]
   std::vector<Eigen::Vector3d> translation;
 };
 MarkerPoseCache cacheMarkerPoses(const MeasurementModel& model, const RowMatrix& q,
-                                 int threads, std::vector<FrameWorkspace>* ws);
+                                 int threads, std::vector<FrameWorkspace>* ws,
+                                 const SensorParameters* theta = nullptr);
 
 // Eq. 17: d_m = mean over frames of h_r^T (R^T (x - t) - h_p). Returns
 // nullopt for a marker that was never seen.

@@ -9,6 +9,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "solve/origin_prior.hpp"
 #include "solve/schur.hpp"
 
 namespace stac {
@@ -42,8 +43,8 @@ UncertaintyResult estimateUncertainty(const MeasurementModel& model,
     return out;
   }
   // The undamped reduction (λ = 0): S is the information about θ alone.
-  const ReducedSystem rs =
-      reduceOntoTheta(model, theta, noise, loss, obs, q, 0.0, false, threads, ws);
+  ReducedSystem rs = reduceOntoTheta(model, theta, noise, loss, obs, q, 0.0, false, threads, ws);
+  addOriginPrior(space, theta, &rs.S, nullptr);  // the posterior's information
   return uncertaintyFromInformation(model, theta, rs.S);
 }
 
@@ -129,7 +130,15 @@ UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
   for (int k = 0; k < nf; ++k) {
     // Unidentifiable: numerically null, or so weak that one standard
     // deviation along it exceeds the parameters' own typical size.
-    const bool null = lambda[k] <= 1e-9 * lmax || lambda[k] < 1.0;
+    // A direction the origin prior (MAP) determines more than the data
+    // does is not unidentifiable: it stays on the prior (reported apart).
+    double prior_part = 0;
+    for (int i = 0; i < nf; ++i) {
+      const double p = space.priorStd(out.free_index[i]);
+      if (p > 0) prior_part += V(i, k) * V(i, k) * std::pow(D[i] / p, 2);
+    }
+    const bool on_prior = prior_part > 0.5 * lambda[k];
+    const bool null = !on_prior && (lambda[k] <= 1e-9 * lmax || lambda[k] < 1.0);
     if (!null) {
       Sinv += V.col(k) * V.col(k).transpose() / lambda[k];
       continue;
