@@ -193,6 +193,7 @@ class Reader {
   // and none may be the time column.
   void claimColumn(const YAML::Node& at, const std::string& key, const std::string& column,
                    bool mapped) {
+    if (!mapped) requireCsvName(at, key, "name", column);
     if (io::isTimeName(column))
       fail(at, key,
            mapped ? "column '" + column + "' is the log's time column, not a sensor's"
