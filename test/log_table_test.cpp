@@ -37,7 +37,9 @@ TEST(LogTable, EqualsTheSameTableReadAsCsv) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 2; ++j) {
       EXPECT_EQ(std::isnan(log.values(i, j)), std::isnan(csv.values(i, j)));
-      if (!std::isnan(csv.values(i, j))) EXPECT_EQ(log.values(i, j), csv.values(i, j));
+      if (!std::isnan(csv.values(i, j))) {
+        EXPECT_EQ(log.values(i, j), csv.values(i, j));
+      }
     }
 }
 

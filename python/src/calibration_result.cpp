@@ -156,7 +156,7 @@ void bindCalibrationResult(py::module_& m) {
       .def_property_readonly(
           "sensors",
           [](const Calibration& c) {
-            return Sensors{SensorsFile{c.result.sensors, c.result.theta}, c.source};
+            return Sensors{SensorsFile{c.result.sensors, c.result.theta, {}}, c.source};
           },
           "The calibrated sensors (final θ and σ), e.g. as the next seed or for evaluate().")
       .def_readonly("report", &Calibration::report, "The summary stac_calib prints.")
