@@ -23,7 +23,9 @@
 namespace stac {
 namespace {
 
-std::string ur5Path() { return std::string(STAC_ROBOTS_DIR) + "/ur5.urdf"; }
+// A real arm, bundled (test/fixtures/README.md) so that these tests never
+// depend on STAC_ROBOTS_DIR.
+std::string ur5Path() { return std::string(STAC_SOURCE_DIR) + "/test/fixtures/ur5.urdf"; }
 
 OriginCorrection randomCorrection(std::mt19937& rng, double xyz, double rpy) {
   std::uniform_real_distribution<double> u(-1, 1);
