@@ -240,7 +240,9 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
                                           paperSeed(robot.truth.sensors, truth), obs, o);
     std::string why;
     const bool reached = closeToTruth(robot.model, robot.truth.sensors, truth, r, &why);
-    const bool suspect = r.summary.suspect();
+    // A result that names what it could not determine is not a silent
+    // answer either: its std there is infinite.
+    const bool suspect = r.summary.suspect() || !r.summary.unidentifiable.empty();
     ++tally.truths;
     tally.reached += reached;
     tally.false_alarms += reached && suspect;
@@ -248,7 +250,15 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
     tally.silent_misses += !reached && !suspect;
     if (!reached)
       std::printf("  %s/%s truth %d: missed (%s)%s\n", robot.name.c_str(), variantName(v), k,
-                  why.c_str(), suspect ? ", verdict suspect" : ", SILENT: verdict ok");
+                  why.c_str(),
+                  r.summary.suspect() ? (", verdict suspect: " + r.summary.verdict[0]).c_str()
+                  : suspect           ? ", reported unidentifiable"
+                                      : ", SILENT: verdict ok");
+    else if (suspect)
+      std::printf("  %s/%s truth %d: reached but flagged (%s)\n", robot.name.c_str(),
+                  variantName(v), k,
+                  r.summary.suspect() ? r.summary.verdict[0].c_str()
+                                      : r.summary.unidentifiable[0].reason.c_str());
   }
   std::printf("basin %-12s %-9s reached %2d/%d  misses flagged %d, silent %d  false alarms %d\n",
               robot.name.c_str(), variantName(v), tally.reached, tally.truths,
