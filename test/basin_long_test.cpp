@@ -9,7 +9,7 @@
 // Huber loss, partial off-centre swings, ur5 with continuous joints, TALOS
 // from 2000 frames. Label "long": outside the default run; prints a table
 // row per robot and variant. STAC_BASIN_TRUTHS=N takes N truths instead of
-// 20 (a quicker look).
+// 20 (a quicker look), STAC_BASIN_ONLY=robot/variant one row.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -226,9 +226,11 @@ struct Tally {
 // Counts the truths reached, and the misses the verdict flags (exit 4) or
 // not (a silent wrong answer).
 Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
+  Tally tally;
+  const char* only = std::getenv("STAC_BASIN_ONLY");  // e.g. "arm4/outliers": one row
+  if (only && std::string(only) != robot.name + "/" + variantName(v)) return tally;
   const MeasurementModel model(robot.model, robot.truth.sensors);
   std::mt19937_64 rng(2024);
-  Tally tally;
   for (int k = 0; k < truths; ++k) {
     const SensorParameters truth = randomTruth(robot.truth.sensors, robot.truth.theta, rng);
     const Simulation sim = simulateVariant(robot, model, truth, v, frames, 1000 + k);
