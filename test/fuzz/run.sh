@@ -6,7 +6,9 @@
 # allocations over 2 GB are kept in build-fuzz/fuzz-work/<target>/artifacts/
 # and the run goes on. At the end each target's corpus is minimised
 # (-merge=1) back into test/fuzz/corpus/<target>/, which the default test
-# suite replays (fuzz_replay_test).
+# suite replays (fuzz_replay_test); only inputs up to 4 KB are kept there, so
+# that the saved corpus stays small (under 1 MB).
+# SECONDS=0 only re-minimises the last run's corpus.
 #
 #   bash test/fuzz/run.sh 1800            # the issue's 30 minutes each
 #   STAC_FUZZ_NICE=19 bash test/fuzz/run.sh 600
@@ -30,8 +32,10 @@ seeds() {  # target -> the files it starts from
   esac
 }
 max_len() { case "$1" in urdf_*) echo 16384 ;; *) echo 8192 ;; esac; }
+saved_max() { echo 4096; }
 
 for t in "${targets[@]}"; do
+  [ "$seconds" -gt 0 ] || break
   rm -rf "$work/$t"
   mkdir -p "$work/$t/corpus" "$work/$t/seeds" "$work/$t/artifacts" "$here/test/fuzz/corpus/$t"
   seeds "$t" | xargs -r cp -t "$work/$t/seeds"
@@ -47,11 +51,14 @@ wait || true
 
 for t in "${targets[@]}"; do
   saved="$here/test/fuzz/corpus/$t"
-  rm -rf "$work/$t/merged" && mkdir -p "$work/$t/merged"
+  rm -rf "$work/$t/merged" "$work/$t/small" && mkdir -p "$work/$t/merged" "$work/$t/small"
+  for from in "$saved" "$work/$t/corpus"; do  # (one cp each: both may hold a file)
+    find "$from" -type f -size -"$(saved_max "$t")"c -exec cp -t "$work/$t/small" {} +
+  done
   "$build/test/fuzz/fuzz_$t" -merge=1 -max_len="$(max_len "$t")" -timeout=5 \
-    -rss_limit_mb=2048 "$work/$t/merged" "$saved" "$work/$t/corpus" >"$work/$t/merge.log" 2>&1
+    -rss_limit_mb=2048 "$work/$t/merged" "$work/$t/small" >"$work/$t/merge.log" 2>&1
   rm -rf "$saved" && mv "$work/$t/merged" "$saved"
   echo "$t: $(grep -E '^#[0-9]+' "$work/$t/log" | tail -1)"
-  echo "$t: saved corpus $(ls "$saved" | wc -l) files, $(du -sk "$saved" | cut -f1) KB;" \
+  echo "$t: saved corpus $(ls "$saved" | wc -l) files, $(cat "$saved"/* | wc -c) bytes;" \
     "findings: $(ls "$work/$t/artifacts" | wc -l) (in $work/$t/artifacts)"
 done
