@@ -6,7 +6,7 @@
 # allocations over 2 GB are kept in build-fuzz/fuzz-work/<target>/artifacts/
 # and the run goes on. At the end each target's corpus is minimised
 # (-merge=1) back into test/fuzz/corpus/<target>/, which the default test
-# suite replays (fuzz_replay_test); only inputs up to 4 KB are kept there, so
+# suite replays (fuzz_replay_test); only inputs up to 3 KB are kept there, so
 # that the saved corpus stays small (under 1 MB).
 # SECONDS=0 only re-minimises the last run's corpus.
 #
@@ -32,7 +32,7 @@ seeds() {  # target -> the files it starts from
   esac
 }
 max_len() { case "$1" in urdf_*) echo 16384 ;; *) echo 8192 ;; esac; }
-saved_max() { echo 4096; }
+saved_max() { echo 3072; }
 
 for t in "${targets[@]}"; do
   [ "$seconds" -gt 0 ] || break
