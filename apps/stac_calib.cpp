@@ -10,6 +10,7 @@
 #include "common/calib_report.hpp"
 #include "common/cli.hpp"
 #include "common/inputs.hpp"
+#include "common/interrupt.hpp"
 #include "common/outputs.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/error.hpp"
@@ -301,6 +302,10 @@ int run(const cli::Args& args) {
   const bool quiet = args.has("quiet");
   std::vector<IterationReport> history;  // for the report's convergence plot
   if (!quiet || !report_path.empty()) options.progress = progressPrinter(quiet, &history);
+  // From here a Ctrl-C is polled (between iterations, stac::Cancelled) and
+  // the outputs are written all or none.
+  const cli::DeferInterrupts polled;
+  options.should_stop = cli::interruptRequested;
   RowMatrix q;
   const CalibrationResult result =
       calibrateFromSource(sensors_path.empty() ? log_path : sensors_path, robot, sf.sensors,
@@ -320,6 +325,7 @@ int run(const cli::Args& args) {
       report_path.empty() ? std::string()
                           : reportHtml(robot, sf, result, q, obs, options, history,
                                        {urdf, log_path, sensors_path});
+  cli::throwIfInterrupted();  // the last point where nothing is written
   writeOutput(output, yaml);
   if (!q_path.empty()) cli::writeLogOutput(q_path, q_log);
   if (!urdf_out.empty()) writeOutput(urdf_out, urdf_patch.urdf);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
+#include "common/interrupt.hpp"
 #include "common/outputs.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
@@ -78,6 +79,8 @@ int run(const Args& args) {
     q_log = stac::jointAnglesLog(robot, sim.q, sim.data.log.time);
     q_log.path = q_path;
   }
+  const stac::cli::DeferInterrupts all_or_none;
+  stac::cli::throwIfInterrupted();
   stac::cli::writeLogOutput(log_path, sim.data.log);
   if (args.has("joint-angles")) stac::cli::writeLogOutput(q_path, q_log);
 

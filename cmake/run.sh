@@ -6,6 +6,7 @@
 #   bash cmake/run.sh test      # build (Release + ASan/UBSan) and run ctest
 #   bash cmake/run.sh bench     # build and run the benchmarks (slow)
 #   bash cmake/run.sh deps      # only install the dependencies
+#   bash cmake/run.sh fuzz SECS # fuzz the parsers for SECS each (clang; test/fuzz/run.sh)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
@@ -18,9 +19,9 @@ packages=(build-essential cmake ninja-build pkg-config libceres-dev
   # The Python module (python/): built against Debian's interpreter.
   python3-dev python3-numpy python3-pytest python3-venv pybind11-dev)
 
-install_deps() {
+install_deps() {  # extra packages...
   local missing=()
-  for p in "${packages[@]}"; do
+  for p in "${packages[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
       || missing+=("$p")
   done
@@ -80,5 +81,10 @@ case "${1:-}" in
     cmake --build build --target benchmarks -j "$jobs"
     for b in build/test/*_bench; do echo "== $b"; "$b"; done
     ;;
-  *) echo "usage: bash cmake/run.sh example|test|bench|deps" >&2; exit 2 ;;
+  fuzz)
+    # Only this mode needs clang and its libFuzzer/sanitizer runtimes.
+    install_deps clang libclang-rt-14-dev
+    bash "$here/test/fuzz/run.sh" "${2:?usage: bash cmake/run.sh fuzz SECONDS}"
+    ;;
+  *) echo "usage: bash cmake/run.sh example|test|bench|deps|fuzz SECONDS" >&2; exit 2 ;;
 esac

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <new>
 
+#include "common/interrupt.hpp"
 #include "stac/error.hpp"
 
 #ifndef STAC_VERSION
@@ -149,7 +150,8 @@ void printHelp(const std::string& synopsis, const std::vector<Option>& options) 
   }
   std::cout << "  --help                    print this help\n"
                "  --version                 print the version\n\n"
-               "Exit codes: 0 success, 2 bad usage or input, 3 internal error.\n";
+               "Exit codes: 0 success, 2 bad usage or input, 3 internal error,\n"
+               "130/143 interrupted (SIGINT/SIGTERM; nothing written).\n";
 }
 }  // namespace
 
@@ -167,8 +169,15 @@ int runApp(int argc, char** argv, const std::string& app,
       return 0;
     }
   }
+  installInterruptHandlers(app);
   try {
     return body(parseArgs(argc, argv, options));
+  } catch (const Interrupted& e) {
+    return reportInterrupt(app, e.signal);
+  } catch (const Cancelled& e) {  // CalibrationOptions::should_stop: an interrupt
+    if (pendingInterrupt()) return reportInterrupt(app, pendingInterrupt());
+    std::cerr << app << ": internal error: " << e.what() << "\n";
+    return 3;
   } catch (const UsageError& e) {
     std::cerr << app << ": error: " << e.what() << "\n"
               << "usage: see '" << app << " --help'\n";

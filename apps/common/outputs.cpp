@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "common/cli.hpp"
+#include "common/interrupt.hpp"
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
 
@@ -45,6 +46,8 @@ void checkOutputs(const std::vector<std::string>& inputs,
 }
 
 void writeOutput(const std::string& path, const std::string& content) {
+  const DeferInterrupts whole_file;  // never a temporary file left behind
+  markOutputsStarted();
   try {
     writeFileAtomically(path, content);
   } catch (const std::runtime_error& e) {
@@ -54,6 +57,8 @@ void writeOutput(const std::string& path, const std::string& content) {
 }
 
 void writeLogOutput(const std::string& path, const Log& log) {
+  const DeferInterrupts whole_file;
+  markOutputsStarted();
   try {
     writeLog(path, log);
   } catch (const InputError&) {

@@ -93,6 +93,14 @@ struct CalibrationOptions {
   bool adapt_variance = true;  // one σ per sensor group re-estimated (not kEkf)
   int max_downweighted = 20;   // readings listed in the summary
   std::function<void(const IterationReport&)> progress;
+  // Cancellation (e.g. a front end's Ctrl-C flag): polled before every
+  // progress report and after every iteration of each Ceres solve (so a long
+  // --method joint solve stops within one iteration). When it returns true
+  // calibrate() throws stac::Cancelled and returns nothing. It is called
+  // from the calibrating thread only; it must be cheap and must not throw.
+  // An exception thrown by `progress` itself propagates out of calibrate()
+  // the same way.
+  std::function<bool()> should_stop;
   // One method's own.
   StacOptions stac;            // kStac, kMonolithic
   EkfOptions ekf;              // kEkf
@@ -106,7 +114,8 @@ struct CalibrationOptions {
 // receives the final q_t (kClassical: read off the sensors, NaN where a
 // defining reading is missing; kEkf: the filtered q_t). Throws
 // std::invalid_argument for invalid options or data the method cannot use
-// (kClassical: a joint without a one-joint sensor).
+// (kClassical: a joint without a one-joint sensor); stac::Cancelled when
+// options.should_stop asked to stop.
 CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
                             const SensorParameters& seed, const Observations& obs,
                             const CalibrationOptions& options,

@@ -37,4 +37,11 @@ class InputError : public std::runtime_error {
   int column_;
 };
 
+// A calibration stopped because CalibrationOptions::should_stop returned
+// true: no result (not an error in the input, nor in the library).
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("calibration cancelled") {}
+};
+
 }  // namespace stac

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 
+#include "stac/error.hpp"
 #include "solve/statistics.hpp"
 #include "solve/origin_phase.hpp"
 #include "solve/parallel.hpp"
@@ -116,6 +117,8 @@ LoopOutcome stacIterations(const Problem& problem, const CalibrationOptions& opt
   double lambda = 1e-4;
   LoopOutcome out;
   for (int it = 1; it <= options.max_iterations; ++it) {
+    // Also polled here: the presolve on the subsample reports nothing.
+    if (options.should_stop && options.should_stop()) throw Cancelled();
     st = coupled ? coupledIteration(problem, options.adapt_variance, &lambda, s, ws)
                  : alternatingIteration(problem, options, s, ws);
     const double rel = (cost - st.cost) / std::max(cost, 1e-300);

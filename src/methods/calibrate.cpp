@@ -42,6 +42,18 @@ Eigen::VectorXd neutralPose(const RobotModel& robot) {
   return q;
 }
 
+namespace {
+// Every method reports progress at its natural steps (STAC iterations, EKF
+// stretches, classical and joint solves): there the cancellation is polled,
+// whether or not the caller wants the reports.
+std::function<void(const IterationReport&)> stoppableProgress(const CalibrationOptions& o) {
+  return [progress = o.progress, should_stop = o.should_stop](const IterationReport& r) {
+    if (should_stop()) throw Cancelled();
+    if (progress) progress(r);
+  };
+}
+}  // namespace
+
 CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
                             const SensorParameters& seed, const Observations& obs,
                             const CalibrationOptions& given, RowMatrix* joint_angles,
@@ -59,6 +71,7 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   // The EKF starts from one q: q0's first row unless its own is given.
   if (options.method == Method::kEkf && q0 && options.ekf.initial_q.size() == 0)
     options.ekf.initial_q = q0->row(0).transpose();
+  if (options.should_stop) options.progress = stoppableProgress(options);
   const Clock::time_point start = Clock::now();
   const MeasurementModel model(robot, sensors);
   const NoiseModel seed_noise = NoiseModel::fromSeeds(sensors);

@@ -16,11 +16,13 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
 #include <memory>
 
 #include "methods/monolithic.hpp"
 #include "methods/monolithic_costs.hpp"
 #include "stac/calibrate.hpp"
+#include "stac/error.hpp"
 #include "solve/parallel.hpp"
 #include "solve/q_phase.hpp"
 #include "stac/sensor_models.hpp"
@@ -168,6 +170,19 @@ void addThetaBlocks(const SensorSet& sensors, ThetaBlocks* theta, ceres::Problem
   }
 }
 
+// CalibrationOptions::should_stop polled after every Ceres iteration: a
+// long joint solve stops within one iteration, not at its end.
+class StopCallback : public ceres::IterationCallback {
+ public:
+  explicit StopCallback(const std::function<bool()>& should_stop) : should_stop_(should_stop) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return should_stop_() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<bool()>& should_stop_;
+};
+
 ceres::Solver::Options solverOptions(const CalibrationOptions& options, int threads,
                                      std::shared_ptr<ceres::ParameterBlockOrdering> order) {
   ceres::Solver::Options so;
@@ -206,8 +221,12 @@ void solveMonolithic(const MeasurementModel& model, const NoiseModel& noise,
     addFrame(model, noise, obs, t, *cache, loss_fn.get(), state->q.row(t).data(), &blocks,
              &problem, order.get());
   addThetaBlocks(model.sensors(), &blocks, &problem, order.get());
+  ceres::Solver::Options so = solverOptions(options, threads, order);
+  StopCallback stop(options.should_stop);
+  if (options.should_stop) so.callbacks.push_back(&stop);
   ceres::Solver::Summary summary;
-  ceres::Solve(solverOptions(options, threads, order), &problem, &summary);
+  ceres::Solve(so, &problem, &summary);
+  if (options.should_stop && summary.termination_type == ceres::USER_FAILURE) throw Cancelled();
   *iterations = static_cast<int>(summary.iterations.size()) - 1;
   *converged = summary.termination_type == ceres::CONVERGENCE;
   blocks.copyTo(theta);

@@ -1,0 +1,7 @@
+// libFuzzer entry point: stac::fuzz::urdfLoader (fuzz_targets.hpp).
+#include "fuzz_targets.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  stac::fuzz::urdfLoader(data, size);
+  return 0;
+}
