@@ -60,11 +60,6 @@ void parseGroups(const cli::Args& args, const std::string& flag, bool out[kNumSe
   }
 }
 
-int groupCount(const SensorSet& s, int g) {
-  return g == 0 ? static_cast<int>(s.markers.size())
-         : g == 1 ? static_cast<int>(s.joint_sensors.size())
-                  : static_cast<int>(s.tendon_sensors.size());
-}
 
 int run(const cli::Args& args) {
   const std::string urdf = args.get("urdf"), sensors_path = args.get("sensors");
@@ -87,10 +82,10 @@ int run(const cli::Args& args) {
   ignoreColumns(&sf, cli::ignoredColumns(args), "--ignore-columns", sensors_path);
   for (int g = 0; g < kNumSensorGroups; ++g) {
     const std::string name = groupName(static_cast<SensorGroup>(g));
-    if (options.use[g] && groupCount(sf.sensors, g) == 0)
+    if (options.use[g] && sf.sensors.groupSize(static_cast<SensorGroup>(g)) == 0)
       throw cli::UsageError("--use " + name + ": the sensors file '" + sensors_path + "' has no " +
                             name + " sensors");
-    if (explicit_predict && options.predict[g] && groupCount(sf.sensors, g) == 0)
+    if (explicit_predict && options.predict[g] && sf.sensors.groupSize(static_cast<SensorGroup>(g)) == 0)
       throw cli::UsageError("--predict " + name + ": the sensors file '" + sensors_path +
                             "' has no " + name + " sensors");
   }

@@ -94,6 +94,10 @@ struct TendonSensorConfig {
   const std::string& logColumn() const { return column.empty() ? name : column; }
 };
 
+// Sensor groups, for per-group σ adaptation and reporting (SPEC §1).
+enum class SensorGroup { kMarker = 0, kJoint = 1, kTendon = 2 };
+constexpr int kNumSensorGroups = 3;
+
 struct SensorSet {
   double mocap_sigma = 0.002;
   FixedFrame mocap_frame_fixed;
@@ -107,6 +111,9 @@ struct SensorSet {
   std::vector<std::string> ignore_columns;
 
   bool hasMarkers() const { return !markers.empty(); }
+  // The number of sensors (markers) of group g, and the name of the i-th.
+  int groupSize(SensorGroup g) const;
+  const std::string& sensorName(SensorGroup g, int i) const;
 };
 
 // A linear sensor's map p = gain * value + bias.
@@ -124,9 +131,6 @@ struct SensorParameters {
   std::vector<OriginCorrection> joint_origin;  // indexed like SensorSet::joint_origins
 };
 
-// Sensor groups, for per-group σ adaptation and reporting (SPEC §1).
-enum class SensorGroup { kMarker = 0, kJoint = 1, kTendon = 2 };
-constexpr int kNumSensorGroups = 3;
 const char* groupName(SensorGroup g);
 // The unit of a group's residuals in reports: "m" (markers, Euclidean), "raw"
 // (a sensor's own unit).

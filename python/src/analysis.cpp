@@ -45,10 +45,6 @@ int groupIndex(const std::string& name, const char* what) {
   throw py::value_error(std::string(what) + " '" + name + "': must be marker, joint or tendon");
 }
 
-size_t groupCount(const SensorSet& s, int g) {
-  return g == 0 ? s.markers.size() : g == 1 ? s.joint_sensors.size() : s.tendon_sensors.size();
-}
-
 // The groups of `names` into flags; each must have sensors (as stac_eval
 // refuses --use/--predict of a group the sensors file lacks).
 void groupFlags(const std::vector<std::string>& names, const Sensors& s, const char* what,
@@ -56,7 +52,7 @@ void groupFlags(const std::vector<std::string>& names, const Sensors& s, const c
   std::fill(flags, flags + kNumSensorGroups, false);
   for (const std::string& name : names) {
     const int g = groupIndex(name, what);
-    if (groupCount(s.file.sensors, g) == 0)
+    if (s.file.sensors.groupSize(static_cast<SensorGroup>(g)) == 0)
       throw py::value_error(std::string(what) + " " + name + ": the sensors file '" + s.source +
                             "' has no " + name + " sensors");
     flags[g] = true;

@@ -25,23 +25,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-int groupSize(const SensorSet& s, int g) {
-  switch (static_cast<SensorGroup>(g)) {
-    case SensorGroup::kMarker: return static_cast<int>(s.markers.size());
-    case SensorGroup::kJoint: return static_cast<int>(s.joint_sensors.size());
-    case SensorGroup::kTendon: return static_cast<int>(s.tendon_sensors.size());
-  }
-  return 0;
-}
-
-const std::string& sensorName(const SensorSet& s, int g, int i) {
-  switch (static_cast<SensorGroup>(g)) {
-    case SensorGroup::kMarker: return s.markers[i].name;
-    case SensorGroup::kJoint: return s.joint_sensors[i].name;
-    case SensorGroup::kTendon: break;
-  }
-  return s.tendon_sensors[i].name;
-}
 
 // Estimates q from the used groups: a tracking pass from the neutral pose
 // (each frame warm-started from its predecessor), then lm-batch refinements.
@@ -92,7 +75,7 @@ void countFramesAtLimit(const RobotModel& robot, EvaluationResult* r) {
   r->frames_at_limit.assign(robot.dof(), 0);
   r->q_names.clear();
   for (int j = 0; j < robot.dof(); ++j)
-    r->q_names.push_back(robot.movableJoints()[robot.qJoints()[j]].name);
+    r->q_names.push_back(robot.qName(j));
   r->frames_clamped = 0;
   for (int t = 0; t < r->q.rows(); ++t) {
     bool any = false;
@@ -114,7 +97,7 @@ EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& se
                                     const EvaluationOptions& options) {
   std::string error;
   if (!options.isValid(&error)) throw std::invalid_argument(error);
-  const int M = groupSize(sensors, 0), J = groupSize(sensors, 1), N = groupSize(sensors, 2);
+  const int M = sensors.groupSize(static_cast<SensorGroup>(0)), J = sensors.groupSize(static_cast<SensorGroup>(1)), N = sensors.groupSize(static_cast<SensorGroup>(2));
   const int T = obs.num_frames;
   if (obs.marker.rows() != T || obs.joint.rows() != T || obs.tendon.rows() != T ||
       obs.marker.cols() != 3 * M || obs.joint.cols() != J || obs.tendon.cols() != N)
@@ -124,7 +107,7 @@ EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& se
       static_cast<int>(theta.tendon_sensor.size()) != N)
     throw std::invalid_argument("evaluatePrediction: the parameters do not match the sensors");
   for (int g = 0; g < kNumSensorGroups; ++g)
-    if (options.use[g] && groupSize(sensors, g) == 0)
+    if (options.use[g] && sensors.groupSize(static_cast<SensorGroup>(g)) == 0)
       throw std::invalid_argument(std::string("evaluatePrediction: no ") +
                                   groupName(static_cast<SensorGroup>(g)) +
                                   " sensors to estimate q from");
@@ -148,15 +131,15 @@ EvaluationResult evaluatePrediction(const RobotModel& robot, const SensorSet& se
   const RowMatrix* errors[kNumSensorGroups] = {&err_marker, &err_joint, &err_tendon};
   for (int g = 0; g < kNumSensorGroups; ++g) {
     GroupPredictionError& ge = result.group[g];
-    ge.present = groupSize(sensors, g) > 0;
+    ge.present = sensors.groupSize(static_cast<SensorGroup>(g)) > 0;
     ge.predicted = ge.present && options.predict[g];
     ge.used = options.use[g];
     ge.mae = kNaN;
     if (!ge.predicted) continue;
     double group_sum = 0.0;
-    for (int i = 0; i < groupSize(sensors, g); ++i) {
+    for (int i = 0; i < sensors.groupSize(static_cast<SensorGroup>(g)); ++i) {
       SensorPredictionError se;
-      se.name = sensorName(sensors, g, i);
+      se.name = sensors.sensorName(static_cast<SensorGroup>(g), i);
       se.group = static_cast<SensorGroup>(g);
       se.index = i;
       double sum = 0.0;
@@ -184,8 +167,8 @@ SensorParameters alignTruth(const SensorSet& sensors, const SensorSet& truth_sen
                             const SensorParameters& truth, const std::string& truth_source) {
   std::map<std::string, int> truth_index[kNumSensorGroups];
   for (int g = 0; g < kNumSensorGroups; ++g)
-    for (int i = 0; i < groupSize(truth_sensors, g); ++i)
-      truth_index[g][sensorName(truth_sensors, g, i)] = i;
+    for (int i = 0; i < truth_sensors.groupSize(static_cast<SensorGroup>(g)); ++i)
+      truth_index[g][truth_sensors.sensorName(static_cast<SensorGroup>(g), i)] = i;
   std::vector<std::string> missing, extra, mismatched;
   if (!sensors.markers.empty() && truth_sensors.markers.empty())
     missing.push_back("the mocap frame (no markers)");
@@ -195,8 +178,8 @@ SensorParameters alignTruth(const SensorSet& sensors, const SensorSet& truth_sen
   aligned.joint_sensor.resize(sensors.joint_sensors.size());
   aligned.tendon_sensor.resize(sensors.tendon_sensors.size());
   for (int g = 0; g < kNumSensorGroups; ++g) {
-    for (int i = 0; i < groupSize(sensors, g); ++i) {
-      const std::string& name = sensorName(sensors, g, i);
+    for (int i = 0; i < sensors.groupSize(static_cast<SensorGroup>(g)); ++i) {
+      const std::string& name = sensors.sensorName(static_cast<SensorGroup>(g), i);
       auto it = truth_index[g].find(name);
       if (it == truth_index[g].end()) {
         missing.push_back(name);

@@ -96,7 +96,7 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   summariseGroupNoise(model.sensors(), problem.seed_noise, &seed, defining);
   std::copy(seed.group_sigma, seed.group_sigma + kNumSensorGroups, summary.seed_group_sigma);
   summariseGroupNoise(model.sensors(), out.noise, &summary, defining);
-  summary.verdict = verdictOf(in, out, result);
+  summary.verdict = verdictOf(in, out, Fit{fitted, q}, result);
   summary.wall_time = std::chrono::duration<double>(Clock::now() - in.start).count();
   if (joint_angles) *joint_angles = std::move(out.q);
   return result;

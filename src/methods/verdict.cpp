@@ -3,21 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <tuple>
 #include <utility>
 
 #include "methods/origin_verdict.hpp"
-#include "model/prediction_errors.hpp"
-#include "solve/parallel.hpp"
 #include "solve/q_phase.hpp"
+#include "solve/statistics.hpp"
 
 namespace stac {
 namespace {
 
 constexpr double kRows[kNumSensorGroups] = {3.0, 1.0, 1.0};  // residual rows per reading
-// The median of |N(0, σ²)| (a scalar reading) and of the Euclidean norm of
-// N(0, σ² I₃) (a marker), in σ.
-constexpr double kMedianError[kNumSensorGroups] = {1.5382, 0.6745, 0.6745};
 
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
   char buf[256];
@@ -66,51 +61,30 @@ void checkSensors(const MethodInput& in, const CalibrationResult& r,
     check(s.tendon_sensors[j].name, r.tendon_residual[j], s.tendon_sensors[j].sigma, 1.0);
 }
 
-// Each sensor's median prediction error over the fitted frames, in units of
-// what Gaussian noise of its seed σ gives (1: as expected), per group.
-std::vector<std::vector<std::pair<double, int>>> medianErrors(const MethodInput& in, const Outcome& out,
-                                              const CalibrationResult& r) {
+// Each sensor's median error over the fitted frames against what Gaussian
+// noise of its seed σ gives (1: as expected), with its index; sensors with
+// fewer than 10 readings left out.
+std::vector<std::vector<std::pair<double, int>>> medianRatios(const MethodInput& in,
+                                                              const Fit& fit,
+                                                              const CalibrationResult& r) {
   const Problem& problem = in.problem;
-  const SensorSet& s = r.sensors;
-  const Observations& obs = problem.obs;
-  std::vector<std::vector<std::vector<double>>> errors(kNumSensorGroups);
-  errors[0].resize(s.markers.size());
-  errors[1].resize(s.joint_sensors.size());
-  errors[2].resize(s.tendon_sensors.size());
-  std::vector<bool> fitted(obs.num_frames, out.fitted_frames.empty());
-  for (int t : out.fitted_frames) fitted[t] = true;
-  // One chunk at a time per thread: collect per chunk, merge after.
-  std::vector<std::vector<std::tuple<int, int, double>>> chunks(numChunks(obs.num_frames));
-  visitPredictionErrors(problem.model, r.theta, obs, out.q, problem.threads,
-                        [&](int chunk, int frame, SensorGroup g, int sensor, double error) {
-                          if (fitted[frame])
-                            chunks[chunk].emplace_back(static_cast<int>(g), sensor, error);
-                        });
-  for (const auto& chunk : chunks)
-    for (const auto& [g, sensor, error] : chunk) errors[g][sensor].push_back(error);
-  std::vector<std::vector<std::pair<double, int>>> medians(kNumSensorGroups);
+  const auto errors = medianErrors(problem.model, r.theta, fit.obs, fit.q, problem.threads);
+  std::vector<std::vector<std::pair<double, int>>> ratios(kNumSensorGroups);
   for (int g = 0; g < kNumSensorGroups; ++g)
     for (size_t i = 0; i < errors[g].size(); ++i) {
-      std::vector<double>& e = errors[g][i];
       const double sigma = problem.seed_noise.sigma(static_cast<SensorGroup>(g), static_cast<int>(i));
-      if (e.size() < 10 || !(sigma > 0)) continue;
-      std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
-      medians[g].emplace_back(e[e.size() / 2] / (kMedianError[g] * sigma), static_cast<int>(i));
+      if (errors[g][i].count < 10 || !(sigma > 0)) continue;
+      ratios[g].emplace_back(errors[g][i].median / (kMedianErrorInSigma[g] * sigma),
+                             static_cast<int>(i));
     }
-  return medians;
-}
-
-std::string sensorName(const SensorSet& s, SensorGroup g, int i) {
-  return g == SensorGroup::kMarker ? s.markers[i].name
-         : g == SensorGroup::kJoint ? s.joint_sensors[i].name
-                                    : s.tendon_sensors[i].name;
+  return ratios;
 }
 
 // With a robust loss, gross outliers inflate both the adapted σ and the
 // RMS: the same checks on medians instead, which outliers barely move.
-void checkMedians(const MethodInput& in, const Outcome& out, const CalibrationResult& r,
+void checkMedians(const MethodInput& in, const Fit& fit, const CalibrationResult& r,
                   std::vector<std::string>* why) {
-  const auto medians = medianErrors(in, out, r);
+  const auto medians = medianRatios(in, fit, r);
   for (int g = 0; g < kNumSensorGroups; ++g) {
     if (medians[g].empty()) continue;
     std::vector<std::pair<double, int>> m = medians[g];
@@ -124,7 +98,7 @@ void checkMedians(const MethodInput& in, const Outcome& out, const CalibrationRe
                             "a wrong minimum, a sigma in the wrong unit, or readings the model "
                             "does not explain", group));
     else if (!(worst <= kSuspectSensorRatio))
-      why->push_back("sensor " + sensorName(r.sensors, static_cast<SensorGroup>(g), worst_sensor) +
+      why->push_back("sensor " + r.sensors.sensorName(static_cast<SensorGroup>(g), worst_sensor) +
                      format(": median error %.3g times what its sigma gives", worst));
   }
 }
@@ -157,7 +131,7 @@ void checkMarkers(const MethodInput& in, const CalibrationResult& r,
 
 }  // namespace
 
-std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out,
+std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, const Fit& fit,
                                    const CalibrationResult& r) {
   std::vector<std::string> why;
   const CalibrationSummary& s = r.summary;
@@ -174,7 +148,7 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out,
     checkGroups(in, s, &why);
     checkSensors(in, r, &why);
   } else {
-    checkMedians(in, out, r, &why);
+    checkMedians(in, fit, r, &why);
   }
   checkMarkers(in, r, &why);
   checkJointOrigins(r.sensors, r.theta, &why);

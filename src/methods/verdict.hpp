@@ -16,9 +16,17 @@ constexpr double kSuspectFitRatio = 3.0;
 // A sensor whose RMS residual is this many times its own σ (no robust loss).
 constexpr double kSuspectSensorRatio = 4.0;
 
+// The frames a method fitted (all of the log's, or the classical
+// regression's usable ones) and their q.
+struct Fit {
+  const Observations& obs;
+  const RowMatrix& q;
+};
+
 // The reasons r fails the checks (empty: ok). `in` is the run's input, `out`
-// its outcome (for the EKF's costs); r has its summary and statistics.
-std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out,
+// its outcome (for the EKF's costs), `fit` what r's statistics are over; r
+// has its summary and statistics.
+std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, const Fit& fit,
                                    const CalibrationResult& r);
 
 }  // namespace stac

@@ -10,6 +10,7 @@
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
 #include "solve/schur.hpp"
+#include "solve/statistics.hpp"
 #include "solve/theta_phase.hpp"
 
 namespace stac {
@@ -39,41 +40,22 @@ FrameOptions markersOnly() {
   return eval;
 }
 
-double median(std::vector<double>* v) {
-  std::nth_element(v->begin(), v->begin() + v->size() / 2, v->end());
-  return (*v)[v->size() / 2];
-}
-
 }  // namespace
 
 // Misfit: a median residual over the frames more than twice what Gaussian
-// noise of the sensor's σ gives (a marker's Euclidean distance: 1.54 σ; a
-// pot: 0.67 σ). Medians, so that gross outliers do not count: a sign chosen
-// wrong shows in every frame.
+// noise of the sensor's σ gives (statistics.hpp). Medians, so that gross
+// outliers do not count: a sign chosen wrong shows in every frame. Markers
+// and pots only (the tendons are not initialised yet).
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const Observations& obs, const RowMatrix& q) {
-  const SensorSet& sensors = model.sensors();
-  const int M = static_cast<int>(sensors.markers.size());
-  const int J = static_cast<int>(sensors.joint_sensors.size());
-  const int N = static_cast<int>(sensors.tendon_sensors.size());
-  std::vector<std::vector<double>> marker(M), joint(J);
-  KinematicsWorkspace kin(model.robot());
-  std::vector<double> pm(3 * M), pj(J), pt(N);
-  for (int t = 0; t < obs.num_frames; ++t) {
-    predictFrame(model, theta, q.row(t).transpose(), &kin, pm.data(), pj.data(), pt.data());
-    for (int m = 0; m < M; ++m) {
-      const Eigen::Vector3d x(obs.marker(t, 3 * m), obs.marker(t, 3 * m + 1),
-                              obs.marker(t, 3 * m + 2));
-      if (x.allFinite())
-        marker[m].push_back((x - Eigen::Vector3d(pm[3 * m], pm[3 * m + 1], pm[3 * m + 2])).norm());
-    }
-    for (int j = 0; j < J; ++j)
-      if (!std::isnan(obs.joint(t, j))) joint[j].push_back(std::abs(obs.joint(t, j) - pj[j]));
+  const auto errors = medianErrors(model, theta, obs, q, 1);
+  for (SensorGroup g : {SensorGroup::kMarker, SensorGroup::kJoint}) {
+    const int gi = static_cast<int>(g);
+    for (size_t i = 0; i < errors[gi].size(); ++i)
+      if (errors[gi][i].count > 0 &&
+          errors[gi][i].median > 2.0 * kMedianErrorInSigma[gi] * noise.sigma(g, static_cast<int>(i)))
+        return true;
   }
-  for (int m = 0; m < M; ++m)
-    if (!marker[m].empty() && median(&marker[m]) > 2.0 * 1.54 * noise.marker[m]) return true;
-  for (int j = 0; j < J; ++j)
-    if (!joint[j].empty() && median(&joint[j]) > 2.0 * 0.674 * noise.joint[j]) return true;
   return false;
 }
 

@@ -20,4 +20,22 @@ std::array<std::string, 3> MarkerConfig::logColumns() const {
 
 const char* groupUnit(SensorGroup g) { return g == SensorGroup::kMarker ? "m" : "raw"; }
 
+int SensorSet::groupSize(SensorGroup g) const {
+  switch (g) {
+    case SensorGroup::kMarker: return static_cast<int>(markers.size());
+    case SensorGroup::kJoint: return static_cast<int>(joint_sensors.size());
+    case SensorGroup::kTendon: return static_cast<int>(tendon_sensors.size());
+  }
+  return 0;
+}
+
+const std::string& SensorSet::sensorName(SensorGroup g, int i) const {
+  switch (g) {
+    case SensorGroup::kMarker: return markers[i].name;
+    case SensorGroup::kJoint: return joint_sensors[i].name;
+    case SensorGroup::kTendon: break;
+  }
+  return tendon_sensors[i].name;
+}
+
 }  // namespace stac

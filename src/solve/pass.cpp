@@ -72,19 +72,6 @@ PassStats costPass(const Problem& problem, const SensorParameters& theta, const 
   return total;
 }
 
-namespace {
-
-std::string sensorName(const SensorSet& s, SensorGroup g, int i) {
-  switch (g) {
-    case SensorGroup::kMarker: return s.markers[i].name;
-    case SensorGroup::kJoint: return s.joint_sensors[i].name;
-    case SensorGroup::kTendon: return s.tendon_sensors[i].name;
-  }
-  return "";
-}
-
-}  // namespace
-
 std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
                                                       const SensorParameters& theta,
                                                       const NoiseModel& noise, const RowMatrix& q,
@@ -108,7 +95,7 @@ std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
         const ReadingJacobian& rj = w.readings[i];
         if (rj.weight < 0.999)
           per_chunk[chunk].push_back(
-              {t, sensorName(model.sensors(), rj.group, rj.sensor), rj.weight});
+              {t, model.sensors().sensorName(rj.group, rj.sensor), rj.weight});
       }
     }
   });

@@ -1,12 +1,48 @@
 #include "solve/statistics.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "model/prediction_errors.hpp"
 #include "solve/pass.hpp"
 #include "solve/parallel.hpp"
 
 namespace stac {
+
+std::vector<std::vector<MedianError>> medianErrors(const MeasurementModel& model,
+                                                   const SensorParameters& theta,
+                                                   const Observations& obs, const RowMatrix& q,
+                                                   int threads) {
+  const SensorSet& s = model.sensors();
+  // Per chunk (one thread at a time each), then per sensor in chunk order.
+  struct Error {
+    int group, sensor;
+    double value;
+  };
+  std::vector<std::vector<Error>> chunks(numChunks(obs.num_frames));
+  visitPredictionErrors(model, theta, obs, q, threads,
+                        [&](int chunk, int, SensorGroup g, int sensor, double e) {
+                          chunks[chunk].push_back({static_cast<int>(g), sensor, e});
+                        });
+  std::vector<std::vector<std::vector<double>>> errors(kNumSensorGroups);
+  for (int g = 0; g < kNumSensorGroups; ++g) errors[g].resize(s.groupSize(static_cast<SensorGroup>(g)));
+  for (const auto& chunk : chunks)
+    for (const Error& e : chunk) errors[e.group][e.sensor].push_back(e.value);
+  std::vector<std::vector<MedianError>> out(kNumSensorGroups);
+  for (int g = 0; g < kNumSensorGroups; ++g)
+    for (std::vector<double>& e : errors[g]) {
+      MedianError m;
+      m.count = static_cast<int>(e.size());
+      m.median = std::numeric_limits<double>::quiet_NaN();
+      if (!e.empty()) {
+        std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
+        m.median = e[e.size() / 2];
+      }
+      out[g].push_back(m);
+    }
+  return out;
+}
 
 void residualStatistics(const MeasurementModel& model, const SensorParameters& theta,
                         const Observations& obs, const RowMatrix& q, int threads,

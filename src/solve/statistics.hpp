@@ -14,6 +14,24 @@ void residualStatistics(const MeasurementModel& model, const SensorParameters& t
                         const Observations& obs, const RowMatrix& q, int threads,
                         CalibrationResult* result);
 
+// The median of |N(0, σ²)| (a scalar reading) and of the Euclidean norm of
+// N(0, σ² I₃) (a marker), in σ: what a sensor's median error is if it fits
+// at its noise.
+constexpr double kMedianErrorInSigma[kNumSensorGroups] = {1.5382, 0.6745, 0.6745};
+
+// Per group and sensor (SensorSet order): the median prediction error over
+// the frames of obs at (θ, q), in raw units (a marker: Euclidean), and how
+// many readings it is over (median NaN without any). Medians, so that gross
+// outliers barely move them: a wrong sign or minimum shows in every frame.
+struct MedianError {
+  double median = 0.0;
+  int count = 0;
+};
+std::vector<std::vector<MedianError>> medianErrors(const MeasurementModel& model,
+                                                   const SensorParameters& theta,
+                                                   const Observations& obs, const RowMatrix& q,
+                                                   int threads);
+
 // Every frame's q_t fitted to θ at the seed σ: ten LM steps per frame from
 // q_start (frames x dof), as the summary's "before" does.
 RowMatrix fitAnglesToTheta(const Problem& problem, const SensorParameters& theta,
