@@ -44,8 +44,7 @@ SensorsFile sensorsForLog(const Args& args, const std::string& sensors_path,
 
 Observations bindSensors(const Log& log, const SensorsFile& sf, const std::string& sensors_path,
                          double mocap_scale) {
-  return bindLog(log, sf.sensors, sensors_path.empty() ? log.path : sensors_path, mocap_scale,
-                 sf.column_keys);
+  return bindLog(log, sf, sensors_path.empty() ? log.path : sensors_path, mocap_scale);
 }
 
 }  // namespace stac::cli

@@ -42,6 +42,11 @@ void addJointOrigins(const RobotModel& model, const std::vector<std::string>& jo
 void ignoreColumns(SensorsFile* sf, const std::vector<std::string>& columns,
                    const std::string& origin, const std::string& sensors_source);
 
+// bindLog (log.hpp) against a sensors file's sensors, its errors about a
+// `column:` mapping pointing at that key and line of sensors_source.
+Observations bindLog(const Log& log, const SensorsFile& sf, const std::string& sensors_source,
+                     double mocap_scale);
+
 // SPEC §3 "Without a sensors file": infers sensors from the log header,
 // leaving out the columns in `ignore` (which the result then ignores).
 // Throws InputError naming the log and listing unplaceable columns with the

@@ -79,7 +79,7 @@ py::dict evaluateLog(const RobotModel& robot, const Sensors& sensors, const Log&
   {
     py::gil_scoped_release release;
     const Observations obs =
-        bindLog(log, sensors.file.sensors, sensors.source, mocap_units == "mm" ? 1e-3 : 1.0);
+        bindLog(log, sensors.file, sensors.source, mocap_units == "mm" ? 1e-3 : 1.0);
     requireReadings(obs, sensors.file.sensors, log.path, ReadingCheck::kAnyFrame);
     r = evaluatePrediction(robot, sensors.file.sensors, sensors.file.theta, obs, options);
   }

@@ -9,6 +9,7 @@
 #include "bindings.hpp"
 #include "calibration_result.hpp"
 #include "stac/calibrate.hpp"
+#include "stac/error.hpp"
 
 namespace stac::python {
 
@@ -18,9 +19,11 @@ namespace {
 // contract is that an exception from options.progress leaves calibrate().
 struct Interrupted {};
 
-// options.progress for calibrate(): the library calls it on the calling
-// thread, without the GIL, once per iteration. It takes the GIL, calls the
-// Python callback (if any) and runs the pending signal handlers; a Python
+// options.progress and options.should_stop for calibrate(): the library
+// calls both on the calling thread, without the GIL (progress once per
+// iteration, should_stop also after every Ceres iteration, as for
+// stac_calib's Ctrl-C). Each takes the GIL; progress calls the Python
+// callback (if any), should_stop runs the pending signal handlers. A Python
 // exception from either (KeyboardInterrupt for Ctrl-C) is kept and the run
 // unwound, to be raised once calibrate() has returned and the GIL is back.
 class ProgressBridge {
@@ -28,14 +31,21 @@ class ProgressBridge {
   explicit ProgressBridge(py::object callback) : callback_(std::move(callback)) {}
 
   void operator()(const IterationReport& r) {
+    if (callback_.is_none()) return;
     py::gil_scoped_acquire gil;
     try {
-      if (!callback_.is_none()) callback_(reportDict(r));
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      callback_(reportDict(r));
     } catch (py::error_already_set& e) {
       error_ = std::move(e);
       throw Interrupted();
     }
+  }
+
+  bool stopRequested() {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() == 0) return false;
+    error_ = py::error_already_set();
+    return true;
   }
 
   [[noreturn]] void raise() { throw *error_; }
@@ -125,14 +135,17 @@ py::object calibrateLog(const RobotModel& robot, const Sensors& sensors, const L
 
   ProgressBridge bridge(std::move(progress));
   options.progress = [&bridge](const IterationReport& r) { bridge(r); };
+  options.should_stop = [&bridge] { return bridge.stopRequested(); };
   auto out = std::make_unique<Calibration>();
   try {
     py::gil_scoped_release release;
-    const Observations obs = bindLog(log, sensors.file.sensors, sensors.source, mocap_scale);
+    const Observations obs = bindLog(log, sensors.file, sensors.source, mocap_scale);
     requireReadings(obs, sensors.file.sensors, log.path, ReadingCheck::kEverySensor);
     out->result = calibrateFromSource(sensors.source, robot, sensors.file.sensors,
                                       sensors.file.theta, obs, options, &out->q);
   } catch (const Interrupted&) {
+    bridge.raise();
+  } catch (const Cancelled&) {
     bridge.raise();
   }
   out->source = sensors.source;

@@ -87,6 +87,18 @@ def test_log_that_does_not_fit_the_sensors(tmp_path, gimbal2):
     assert str(e) == calib_error(tmp_path, log=extra)
 
 
+def test_mapped_column_the_log_lacks_names_its_key_and_line(tmp_path, gimbal2):
+    robot, _, log = gimbal2
+    seed = tmp_path / "mapped.yaml"
+    text = SEED.read_text()
+    assert "  - name: neck_cyl_1\n" in text
+    seed.write_text(text.replace("  - name: neck_cyl_1\n",
+                                 "  - name: neck_cyl_1\n    column: no_such_column\n"))
+    e = python_error(stac.calibrate, robot, stac.read_sensors(str(seed), robot), log)
+    assert str(e) == calib_error(tmp_path, sensors=seed)
+    assert "column" in str(e) and e.file == str(seed) and e.line > 0, str(e)
+
+
 def test_sensor_without_readings(tmp_path, gimbal2):
     robot, seed, log = gimbal2
     blank = tmp_path / "blank.csv"

@@ -115,7 +115,8 @@ def test_the_gil_is_released_during_the_solve(hand24):
         time.sleep(0.005)
     worker.join()
     seconds = time.monotonic() - start
-    # Without a progress callback the library never takes the GIL: holding
-    # it for the whole solve would leave this thread a tick or two.
+    # Without a progress callback the library takes the GIL only for a
+    # moment per iteration (to look for Ctrl-C): holding it for the whole
+    # solve would leave this thread a tick or two.
     assert ticks > max(10, 5 * seconds), (ticks, seconds)
     assert box["result"].joint_angles.shape == (log.frames, robot.dof)

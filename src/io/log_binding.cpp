@@ -184,6 +184,11 @@ bool isRead(const SensorSet& s, const std::string& column) {
 
 }  // namespace
 
+Observations bindLog(const Log& log, const SensorsFile& sf, const std::string& sensors_source,
+                     double mocap_scale) {
+  return bindLog(log, sf.sensors, sensors_source, mocap_scale, sf.column_keys);
+}
+
 void ignoreColumns(SensorsFile* sf, const std::vector<std::string>& columns,
                    const std::string& origin, const std::string& sensors_source) {
   std::vector<std::string>& ignored = sf->sensors.ignore_columns;
