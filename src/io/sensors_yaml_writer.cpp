@@ -234,18 +234,12 @@ void jointOrigins(std::string& o, const SensorSet& s, const SensorParameters& th
   }
 }
 
-std::string nameList(const std::vector<std::string>& names) {
-  std::string s = "[";
-  for (size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
-  return s + "]";
-}
-
-void originDetermination(std::string& o, const std::vector<OriginDetermination>& list) {
-  if (list.empty()) return;
+void originDetermination(std::string& o, const std::vector<OriginDetermination>& origins) {
+  if (origins.empty()) return;
   o += "  joint_origins:\n";
-  for (const OriginDetermination& d : list)
-    o += "    - {joint: " + scalar(d.joint) + ", determined: " + nameList(d.determined) +
-         ", on_prior: " + nameList(d.on_prior) + "}\n";
+  for (const OriginDetermination& d : origins)
+    o += "    - {joint: " + scalar(d.joint) + ", determined: " + list(d.determined) +
+         ", on_prior: " + list(d.on_prior) + "}\n";
 }
 
 // An empty list as "[]" so that it reads back as a list, not as null.

@@ -102,9 +102,9 @@ PassStats alternatingIteration(const Problem& problem, const CalibrationOptions&
   to.threads = problem.threads;
   qPhase(problem.model, s->theta, s->noise, problem.loss, problem.obs, qo, ws, &s->q);
   thetaPhase(problem.model, s->noise, problem.loss, problem.obs, s->q, to, ws, &s->theta);
-  double lambda = 1e-4;  // joint-origin corrections: no closed form (origin_phase.hpp)
+  // Joint-origin corrections: no closed form (origin_phase.hpp).
   originPhase(problem.model, s->noise, problem.loss, problem.obs, s->q.q, 3, problem.threads, ws,
-              &lambda, &s->theta);
+              &s->origin_lambda, &s->theta);
   return costPass(problem, s->theta, s->noise, s->q.q, options.adapt_variance, ws);
 }
 

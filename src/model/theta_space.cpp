@@ -48,14 +48,29 @@ ThetaSpace::ThetaSpace(const SensorSet& sensors) : sensors_(&sensors) {
     }
 }
 
+namespace {
+
+// The sensor group whose predictions a θ block shapes most directly. A
+// joint-origin correction moves markers and tendon anchors alike; it is
+// counted with the markers, whose fit it mostly is.
+SensorGroup groupShaped(ThetaBlock b) {
+  switch (b) {
+    case ThetaBlock::kJointSensor: return SensorGroup::kJoint;
+    case ThetaBlock::kTendonSensor: return SensorGroup::kTendon;
+    case ThetaBlock::kMocapRotation:
+    case ThetaBlock::kMocapTranslation:
+    case ThetaBlock::kMarker:
+    case ThetaBlock::kJointOrigin: break;
+  }
+  return SensorGroup::kMarker;
+}
+
+}  // namespace
+
 int ThetaSpace::freeInGroup(SensorGroup g) const {
   int n = 0;
   for (int i : free_index_) {
-    const ThetaBlock b = entry(i).block;
-    const SensorGroup owner = b == ThetaBlock::kJointSensor    ? SensorGroup::kJoint
-                              : b == ThetaBlock::kTendonSensor ? SensorGroup::kTendon
-                                                               : SensorGroup::kMarker;
-    n += owner == g;
+    n += groupShaped(entry(i).block) == g;
   }
   return n;
 }

@@ -43,20 +43,8 @@ ThetaSystem thetaSystem(const MeasurementModel& model, const SensorParameters& t
       qt = q.row(t).transpose();
       p.cost += evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), qt, eo, &w);
       if (!system) continue;
-      for (int i = 0; i < w.count; ++i) {
-        const ReadingJacobian& rj = w.readings[i];
-        for (int b = 0; b < rj.theta_count; ++b) {
-          const int fb = free_of[rj.theta_index[b]];
-          if (fb < 0) continue;
-          const auto jb = rj.Jtheta.col(b).head(rj.rows);
-          p.g[fb] += jb.dot(rj.r.head(rj.rows));
-          for (int c = 0; c <= b; ++c) {
-            const int fc = free_of[rj.theta_index[c]];
-            if (fc >= 0)
-              p.H(std::max(fb, fc), std::min(fb, fc)) += rj.Jtheta.col(c).head(rj.rows).dot(jb);
-          }
-        }
-      }
+      for (int i = 0; i < w.count; ++i)
+        accumulateThetaNormalEquations(w.readings[i], free_of, &p.H, &p.g);
     }
   });
   ThetaSystem out;

@@ -31,6 +31,7 @@ struct State {
   NoiseModel noise;
   GroupScales scales;
   QState q;
+  double origin_lambda = 1e-4;  // the origin phase's damping, carried on
 };
 
 // One FrameWorkspace per thread.

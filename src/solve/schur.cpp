@@ -9,6 +9,21 @@
 #include "solve/parallel.hpp"
 
 namespace stac {
+
+void accumulateThetaNormalEquations(const ReadingJacobian& rj, const std::vector<int>& free_of,
+                                    Eigen::MatrixXd* S, Eigen::VectorXd* g) {
+  for (int b = 0; b < rj.theta_count; ++b) {
+    const int fb = free_of[rj.theta_index[b]];
+    if (fb < 0) continue;
+    const auto jb = rj.Jtheta.col(b).head(rj.rows);
+    if (g) (*g)[fb] += jb.dot(rj.r.head(rj.rows));
+    for (int c = 0; c <= b; ++c) {
+      const int fc = free_of[rj.theta_index[c]];
+      if (fc >= 0) (*S)(std::max(fb, fc), std::min(fb, fc)) += rj.Jtheta.col(c).head(rj.rows).dot(jb);
+    }
+  }
+}
+
 namespace {
 constexpr int kBlocks = kReductionBlocks;
 constexpr int kBatch = 8;  // frames per rank update
@@ -39,15 +54,11 @@ void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
       if (fb < 0) continue;
       const auto jb = rj.Jtheta.col(b).head(rj.rows);
       for (size_t a = 0; a < cols.size(); ++a) fs->Hqt(cols[a], fb) += rj.Jq.col(a).head(rj.rows).dot(jb);
-      if (!S) continue;
-      if (gt) (*gt)[fb] += jb.dot(rj.r.head(rj.rows));
-      for (int c = 0; c <= b; ++c) {
-        const int fc = free_of[rj.theta_index[c]];
-        if (fc >= 0) (*S)(std::max(fb, fc), std::min(fb, fc)) += rj.Jtheta.col(c).head(rj.rows).dot(jb);
-      }
     }
+    if (S) accumulateThetaNormalEquations(rj, free_of, S, gt);
   }
 }
+
 
 void dampQ(double lambda, Eigen::MatrixXd* H) { addDamping(lambda, *H, H); }
 }  // namespace

@@ -15,6 +15,13 @@
 
 namespace stac {
 
+// One reading's share of the θθ Gauss-Newton system over the free entries
+// (free_of: θ index -> free index, -1 if held): J_θᵀ r added to g (when
+// given) and J_θᵀ J_θ to the lower triangle of S. The one place either the
+// Schur reduction or the origin phase forms it.
+void accumulateThetaNormalEquations(const ReadingJacobian& rj, const std::vector<int>& free_of,
+                                    Eigen::MatrixXd* S, Eigen::VectorXd* g);
+
 struct ReducedSystem {
   std::vector<int> free_index;    // θ entry of each reduced row
   Eigen::MatrixXd S;              // H_θθ - Σ H_θq (H_qq + λD)⁻¹ H_qθ (+ λ diag)
