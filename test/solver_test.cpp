@@ -225,5 +225,30 @@ TEST(Stac, ReportedStdMatchesTheSpreadOverNoiseSeeds) {
   }
 }
 
+// A log far longer than the initialisation's subsample (kInitFrames = 1000,
+// here 100 frames apart): every frame starts from q_t solved on ever denser
+// frames, never interpolated across a wide gap, so the start already fits
+// at the noise and a few iterations finish (a 250,000-frame humanoid took
+// 13 iterations from a start at twice its noise; 5 now).
+TEST(Stac, VeryLongLogStartsAtTheNoise) {
+  test::ArmProblem p = test::makeArmProblem(100000, 6);
+  CalibrationOptions o;
+  o.threads = 2;
+  double init_rms[kNumSensorGroups] = {-1, -1, -1};
+  o.progress = [&](const IterationReport& r) {
+    if (r.stage == "init") std::copy(r.rms, r.rms + kNumSensorGroups, init_rms);
+  };
+  CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
+  EXPECT_TRUE(r.summary.converged);
+  EXPECT_LE(r.summary.iterations, 8);
+  for (int g = 0; g < kNumSensorGroups; ++g) {
+    if (!r.summary.group_present[g]) continue;
+    EXPECT_GT(init_rms[g], 0) << "group " << g;
+    EXPECT_LT(init_rms[g], 1.1 * r.summary.after_rms[g]) << "group " << g;
+  }
+  EXPECT_TRUE(r.summary.verdict.empty());
+  expectWithinStd(p, r, 4.0);
+}
+
 }  // namespace
 }  // namespace stac

@@ -144,20 +144,59 @@ LoopOutcome stacIterations(const Problem& problem, const CalibrationOptions& opt
 
 namespace {
 
-// Every frame's q_t from its initialised neighbours in `sub` (linearly in
-// between; the nearer one where a joint jumps, e.g. a continuous joint a
-// turn apart).
-void interpolateAngles(const std::vector<int>& sub, const RowMatrix& sub_q, RowMatrix* q) {
-  const int T = static_cast<int>(q->rows());
-  for (int t = 0, k = 0; t < T; ++t) {
-    while (k + 1 < static_cast<int>(sub.size()) && sub[k + 1] <= t) ++k;
-    const bool between = t > sub[k] && k + 1 < static_cast<int>(sub.size());
-    const double f = between ? static_cast<double>(t - sub[k]) / (sub[k + 1] - sub[k]) : 0.0;
-    for (int j = 0; j < q->cols(); ++j) {
-      const double a = sub_q(k, j);
-      const double b = between ? sub_q(k + 1, j) : a;
-      (*q)(t, j) = std::abs(b - a) < 0.5 ? a + f * (b - a) : (f < 0.5 ? a : b);
+// The q_t of the frames `at` (ascending) from those of the initialised
+// frames `from`: linearly in between; the nearer one where a joint jumps,
+// e.g. a continuous joint a turn apart.
+RowMatrix interpolateAngles(const std::vector<int>& from, const RowMatrix& from_q,
+                            const std::vector<int>& at) {
+  RowMatrix q(static_cast<Eigen::Index>(at.size()), from_q.cols());
+  size_t k = 0;
+  for (size_t i = 0; i < at.size(); ++i) {
+    const int t = at[i];
+    while (k + 1 < from.size() && from[k + 1] <= t) ++k;
+    const bool between = t > from[k] && k + 1 < from.size();
+    const double f = between ? static_cast<double>(t - from[k]) / (from[k + 1] - from[k]) : 0.0;
+    for (Eigen::Index j = 0; j < q.cols(); ++j) {
+      const double a = from_q(static_cast<Eigen::Index>(k), j);
+      const double b = between ? from_q(static_cast<Eigen::Index>(k + 1), j) : a;
+      q(static_cast<Eigen::Index>(i), j) = std::abs(b - a) < 0.5 ? a + f * (b - a) : (f < 0.5 ? a : b);
     }
+  }
+  return q;
+}
+
+// Interpolation is a good start for a frame's LM only while its
+// neighbouring solved frames are close in time: across a wider gap a limb
+// may have swept most of its range, and a few LM steps from the straight
+// line between them leave it far off (on a 250,000-frame log, a gap of 250
+// frames left the marker RMS at twice its noise and the coupled steps
+// crawling for dozens of iterations). So the solved frames are densified
+// tenfold at a time until the gap is at most this.
+constexpr int kInterpolationGap = 25;
+
+// Every frame's q_t from the subsample's (`sub`, `sub_q`), θ held: each
+// level interpolated from the previous one and polished by a few LM steps.
+void fillAngles(const Problem& problem, const State& s, std::vector<int> sub, RowMatrix sub_q,
+                Workspaces* ws, QState* q) {
+  const int T = problem.obs.num_frames;
+  QPhaseOptions qo;
+  qo.method = QPhaseMethod::kLmBatch;
+  qo.max_steps = 3;
+  qo.threads = problem.threads;
+  for (;;) {
+    const bool last = static_cast<long>(T) <= static_cast<long>(sub.size()) * kInterpolationGap;
+    const std::vector<int> next =
+        spreadFrames(T, last ? T : static_cast<int>(sub.size()) * 10);
+    QState level;
+    level.q = interpolateAngles(sub, sub_q, next);
+    qPhase(problem.model, s.theta, s.noise, problem.loss,
+           last ? problem.obs : selectFrames(problem.obs, next), qo, ws, &level);
+    if (last) {
+      *q = std::move(level);
+      return;
+    }
+    sub = next;
+    sub_q = std::move(level.q);
   }
 }
 
@@ -165,7 +204,7 @@ void interpolateAngles(const std::vector<int>& sub, const RowMatrix& sub_q, RowM
 // the log (wide_basin.hpp), solved there first with `presolve` (θ and σ:
 // each iteration there costs a fraction of one on the whole log, which then
 // needs only the last few coupled steps); then every frame's q_t from the
-// nearest initialised frames, polished by a few LM steps. Returns whether
+// initialised frames (fillAngles). Returns whether
 // the subsample converged.
 bool initialise(const MethodInput& in, bool presolve, Start* start, Workspaces* ws) {
   const Problem& problem = in.problem;
@@ -197,12 +236,7 @@ bool initialise(const MethodInput& in, bool presolve, Start* start, Workspaces* 
   s.theta = sub_state.theta;
   s.noise = sub_state.noise;
   s.scales = sub_state.scales;
-  interpolateAngles(sub, sub_state.q.q, &s.q.q);
-  QPhaseOptions qo;
-  qo.method = QPhaseMethod::kLmBatch;
-  qo.max_steps = 3;
-  qo.threads = problem.threads;
-  qPhase(problem.model, s.theta, s.noise, problem.loss, problem.obs, qo, ws, &s.q);
+  fillAngles(problem, s, sub, sub_state.q.q, ws, &s.q);
   // σ was adapted on the subsample when it was solved first; else here.
   start->st = adaptedPass(problem, &s, options.adapt_variance && !presolved, ws);
   return converged;
