@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "stac/log.hpp"
 #include "stac/measurement.hpp"
 #include "solve/q_phase.hpp"
 #include "solve/schur.hpp"
@@ -229,6 +230,50 @@ TEST(Measurement, GroupLeverageMatchesTheDenseHatMatrix) {
   checkGroupLeverage(RobustLoss(), false);
   checkGroupLeverage(RobustLoss(), true);
   checkGroupLeverage(RobustLoss(LossKind::kHuber, 0.5), false);
+}
+
+// The sandwich's meat: Σ_t g̃_t g̃_tᵀ over frames, each g̃_t being the reduced
+// gradient of frame t alone (so one frame's meat is g gᵀ).
+TEST(Schur, ScoreOuterProductSumsEachFramesReducedGradient) {
+  Scene s;
+  Observations two = s.obs;
+  two.num_frames = 2;
+  std::mt19937 rng(8);
+  auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  two.marker.conservativeResize(2, Eigen::NoChange);
+  two.joint.conservativeResize(2, Eigen::NoChange);
+  two.tendon.conservativeResize(2, Eigen::NoChange);
+  for (int i = 0; i < 9; ++i) two.marker(1, i) = uni(-1, 1);
+  for (int i = 0; i < 2; ++i) two.joint(1, i) = uni(-1, 1), two.tendon(1, i) = uni(-1, 1);
+  const MeasurementModel model(s.robot, s.sensors);
+  const NoiseModel noise = NoiseModel::fromSeeds(s.sensors);
+  RowMatrix q(2, model.dof());
+  for (int t = 0; t < 2; ++t)
+    for (int j = 0; j < model.dof(); ++j) q(t, j) = uni(-0.5, 0.5);
+  std::vector<FrameWorkspace> ws(2, FrameWorkspace(model));
+  for (const RobustLoss& loss : {RobustLoss(), RobustLoss(LossKind::kHuber, 2.0)}) {
+    const int nf = model.thetaSpace().freeSize();
+    ASSERT_GT(nf, 10);
+    Eigen::MatrixXd want = Eigen::MatrixXd::Zero(nf, nf);
+    for (int t = 0; t < 2; ++t) {
+      const Observations one = selectFrames(two, {t});
+      const RowMatrix qt = q.row(t);
+      const ReducedSystem rs = reduceOntoTheta(model, s.theta, noise, loss, one, qt, 0.0, true, 2,
+                                               &ws);
+      want += rs.g * rs.g.transpose();
+    }
+    Eigen::MatrixXd got;
+    const ReducedSystem both = reduceOntoTheta(model, s.theta, noise, loss, two, q, 0.0, true, 2,
+                                               &ws, FrameOptions(), nullptr, &got);
+    ASSERT_EQ(got.rows(), nf);
+    EXPECT_GT(want.norm(), 1.0);
+    EXPECT_LT((got - want).norm(), 1e-9 * want.norm());
+    // Asking for it changes nothing else.
+    const ReducedSystem plain = reduceOntoTheta(model, s.theta, noise, loss, two, q, 0.0, true, 2,
+                                                &ws);
+    EXPECT_LT((plain.g - both.g).norm(), 1e-12 * plain.g.norm());
+    EXPECT_LT((plain.S - both.S).norm(), 1e-12 * plain.S.norm());
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 
 #include "stac/calibrate.hpp"
 #include "support/arm_fixture.hpp"
@@ -223,6 +224,38 @@ TEST(Stac, ReportedStdMatchesTheSpreadOverNoiseSeeds) {
             [m, i](const CalibrationResult& r) { return r.std.marker_position[m][i]; },
             p0.sensors.markers[m].name);
   }
+}
+
+// Readings of one frame sharing an error (virtual points of one tracked
+// body; a mocap frame jittering as a whole) carry less information than
+// independent ones: the sandwich std (uncertainty.hpp) follows the real
+// spread of the estimate where the noise model's own std would claim more.
+TEST(Stac, StdFollowsTheSpreadWhenAFramesMarkersShareAnError) {
+  const int kSeeds = 16;
+  std::vector<double> tx, sd;
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    test::ArmProblem p = test::makeArmProblem(300, 4, 1.0, 0.0, 200 + seed);
+    const double shared = 4.0 * p.sensors.markers[0].sigma;
+    std::mt19937 rng(300 + seed);
+    std::normal_distribution<double> n(0.0, shared);
+    for (int t = 0; t < p.obs.num_frames; ++t) {
+      const Eigen::Vector3d c(n(rng), n(rng), n(rng));
+      for (Eigen::Index m = 0; m < p.obs.marker.cols() / 3; ++m)
+        for (int i = 0; i < 3; ++i) p.obs.marker(t, 3 * m + i) += c[i];
+    }
+    CalibrationOptions o;
+    o.threads = 2;
+    CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
+    for (int i = 0; i < 3; ++i) {
+      tx.push_back(r.theta.mocap.translation[i] - p.truth.mocap.translation[i]);
+      sd.push_back(r.std.mocap_translation[i]);
+    }
+  }
+  double ms = 0, mean_sd = 0;
+  for (size_t k = 0; k < tx.size(); ++k) ms += tx[k] * tx[k] / tx.size(), mean_sd += sd[k] / sd.size();
+  const double spread = std::sqrt(ms);
+  EXPECT_GT(mean_sd, 0.8 * spread);
+  EXPECT_LT(mean_sd, 1.5 * spread);
 }
 
 // A log far longer than the initialisation's subsample (kInitFrames = 1000,

@@ -97,6 +97,8 @@ struct TendonSensorConfig {
 // Sensor groups, for per-group σ adaptation and reporting (SPEC §1).
 enum class SensorGroup { kMarker = 0, kJoint = 1, kTendon = 2 };
 constexpr int kNumSensorGroups = 3;
+// Residual rows of one reading of each group (a marker's x, y, z).
+constexpr int kReadingRows[kNumSensorGroups] = {3, 1, 1};
 
 struct SensorSet {
   double mocap_sigma = 0.002;

@@ -12,7 +12,6 @@
 namespace stac {
 namespace {
 
-constexpr double kRows[kNumSensorGroups] = {3.0, 1.0, 1.0};  // residual rows per reading
 
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
   char buf[256];
@@ -27,7 +26,7 @@ void checkGroups(const MethodInput& in, const CalibrationSummary& s,
   const bool adapted = in.options.adapt_variance && in.options.method != Method::kEkf;
   for (int g = 0; g < kNumSensorGroups; ++g) {
     if (!s.group_present[g] || !(s.seed_group_sigma[g] > 0)) continue;
-    const double fit = adapted ? s.group_sigma[g] : s.after_rms[g] / std::sqrt(kRows[g]);
+    const double fit = adapted ? s.group_sigma[g] : s.after_rms[g] / std::sqrt(kReadingRows[g]);
     const double ratio = fit / s.seed_group_sigma[g];
     if (!(ratio <= kSuspectFitRatio))
       why->push_back(std::string("the ") + groupName(static_cast<SensorGroup>(g)) +

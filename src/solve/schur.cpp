@@ -68,7 +68,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               const Observations& obs, const RowMatrix& q, double lambda,
                               bool with_gradient, int threads,
                               std::vector<FrameWorkspace>* ws, const FrameOptions& groups,
-                              const FrameVisitor& visit) {
+                              const FrameVisitor& visit, Eigen::MatrixXd* score_outer) {
   ReducedSystem out;
   const ThetaSpace& space = model.thetaSpace();
   out.free_index = space.freeIndex();
@@ -78,12 +78,14 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
   const std::vector<int>& free_of = space.freePosition();
   std::vector<Eigen::MatrixXd> bS(kBlocks, Eigen::MatrixXd::Zero(nf, nf)), bH(kBlocks);
   std::vector<Eigen::VectorXd> bg(kBlocks, Eigen::VectorXd::Zero(nf));
+  std::vector<Eigen::MatrixXd> bB(score_outer ? kBlocks : 0, Eigen::MatrixXd::Zero(nf, nf));
   std::vector<double> bcost(kBlocks, 0.0);
+  const bool need_y = with_gradient || score_outer;
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
   parallelFor(kBlocks, threads, [&](int block, int tid) {
     FrameSystem fs{Eigen::MatrixXd(dof, dof), Eigen::MatrixXd(dof, nf), Eigen::VectorXd(dof)};
-    Eigen::MatrixXd X(dof * kBatch, nf), Y(dof * kBatch, 1);
-    Eigen::VectorXd qt(dof);
+    Eigen::MatrixXd X(dof * kBatch, nf), Y(dof * kBatch, 1), G(nf, kBatch);
+    Eigen::VectorXd qt(dof), g_frame(nf);
     Eigen::MatrixXd& S = bS[block];
     const int begin = static_cast<int>(static_cast<long>(T) * block / kBlocks);
     const int end = static_cast<int>(static_cast<long>(T) * (block + 1) / kBlocks);
@@ -93,17 +95,28 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
       const int rows = in_batch * dof;
       S.selfadjointView<Eigen::Lower>().rankUpdate(X.topRows(rows).transpose(), -1.0);
       if (with_gradient) bg[block].noalias() -= X.topRows(rows).transpose() * Y.topRows(rows);
+      if (score_outer)
+        bB[block].selfadjointView<Eigen::Lower>().rankUpdate(G.leftCols(in_batch));
       in_batch = 0;
     };
     for (int t = begin; t < end; ++t) {
       qt = q.row(t).transpose();
-      frameSystem(model, theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, &S,
-                  with_gradient ? &bg[block] : nullptr, &bcost[block], groups);
+      // The frame's own θ score first when its outer product is wanted.
+      if (score_outer) g_frame.setZero();
+      Eigen::VectorXd* g_theta = score_outer ? &g_frame : with_gradient ? &bg[block] : nullptr;
+      frameSystem(model, theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, &S, g_theta,
+                  &bcost[block], groups);
       if (visit) visit(block, (*ws)[tid], fs.Hqq);
       dampQ(lambda, &fs.Hqq);
       Eigen::LLT<Eigen::MatrixXd> llt(fs.Hqq);
-      X.middleRows(in_batch * dof, dof) = llt.matrixL().solve(fs.Hqt);
-      if (with_gradient) Y.middleRows(in_batch * dof, dof) = llt.matrixL().solve(fs.gq);
+      auto Xt = X.middleRows(in_batch * dof, dof);
+      auto Yt = Y.middleRows(in_batch * dof, dof);
+      Xt = llt.matrixL().solve(fs.Hqt);
+      if (need_y) Yt = llt.matrixL().solve(fs.gq);
+      if (score_outer) {
+        G.col(in_batch) = g_frame - Xt.transpose() * Yt;  // g_θ - H_θq H_qq⁻¹ g_q
+        if (with_gradient) bg[block] += g_frame;
+      }
       if (++in_batch == kBatch) flush();
     }
     flush();
@@ -114,6 +127,11 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
     out.S += bS[b];
     out.g += bg[b];
     out.cost += bcost[b];
+  }
+  if (score_outer) {
+    score_outer->setZero(nf, nf);
+    for (const Eigen::MatrixXd& b : bB) *score_outer += b;
+    *score_outer = score_outer->selfadjointView<Eigen::Lower>();
   }
   // bS accumulated H_θθ (lower) minus the eliminated part; recover diag(H_θθ)
   // for damping from a cheap second look is unnecessary: LM on the reduced

@@ -40,13 +40,17 @@ constexpr int kReductionBlocks = 16;
 using FrameVisitor =
     std::function<void(int block, const FrameWorkspace& w, const Eigen::MatrixXd& Hqq)>;
 
+// With score_outer, also Σ_t g̃_t g̃_tᵀ over the frames, g̃_t being frame t's
+// share of the reduced gradient g (its θ score with q_t profiled out): the
+// "meat" of a sandwich covariance (uncertainty.hpp).
 ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParameters& theta,
                               const NoiseModel& noise, const RobustLoss& loss,
                               const Observations& obs, const RowMatrix& q, double lambda,
                               bool with_gradient, int threads,
                               std::vector<FrameWorkspace>* ws,
                               const FrameOptions& groups = FrameOptions(),
-                              const FrameVisitor& visit = nullptr);
+                              const FrameVisitor& visit = nullptr,
+                              Eigen::MatrixXd* score_outer = nullptr);
 
 // One coupled LM step on (q, θ): tries damping *lambda (adapting it) until
 // the total cost decreases; returns the new cost, or the old one (state

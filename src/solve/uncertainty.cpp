@@ -43,9 +43,16 @@ UncertaintyResult estimateUncertainty(const MeasurementModel& model,
     return out;
   }
   // The undamped reduction (λ = 0): S is the information about θ alone.
-  ReducedSystem rs = reduceOntoTheta(model, theta, noise, loss, obs, q, 0.0, false, threads, ws);
-  addOriginPrior(space, theta, &rs.S, nullptr);  // the posterior's information
-  return uncertaintyFromInformation(model, theta, rs.S);
+  Eigen::MatrixXd scores;
+  ReducedSystem rs = reduceOntoTheta(model, theta, noise, loss, obs, q, 0.0, false, threads, ws,
+                                     FrameOptions(), nullptr, &scores);
+  // The posterior's information: the prior counts in the bread and, being
+  // no data, as itself in the meat.
+  Eigen::MatrixXd prior = Eigen::MatrixXd::Zero(rs.S.rows(), rs.S.cols());
+  addOriginPrior(space, theta, &prior, nullptr);
+  rs.S += prior;
+  scores += prior;
+  return uncertaintyFromInformation(model, theta, rs.S, &scores);
 }
 
 namespace {
@@ -105,7 +112,8 @@ UnidentifiableDirection describeDirection(const ThetaSpace& space, const SensorP
 
 UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
                                              const SensorParameters& theta,
-                                             const Eigen::MatrixXd& S) {
+                                             const Eigen::MatrixXd& S,
+                                             const Eigen::MatrixXd* score_outer) {
   const ThetaSpace& space = model.thetaSpace();
   UncertaintyResult out;
   out.free_index = space.freeIndex();
@@ -147,10 +155,19 @@ UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
     out.unidentifiable.push_back(describeDirection(space, theta, out.free_index, v,
                                                    lambda[k] <= 1e-9 * lmax, &confounded));
   }
+  // The sandwich S⁺ B S⁺ where the frames' scores were given: the larger of
+  // it and S⁺ (see the header).
+  Eigen::VectorXd var = Sinv.diagonal();
+  if (score_outer) {
+    if (score_outer->rows() != nf || score_outer->cols() != nf)
+      throw std::invalid_argument("score outer product does not match the free parameters");
+    const Eigen::MatrixXd Bt = D.asDiagonal() * (*score_outer) * D.asDiagonal();
+    var = var.cwiseMax((Sinv * Bt * Sinv).diagonal());
+  }
   const double inf = std::numeric_limits<double>::infinity();
   for (int i = 0; i < nf; ++i) {
     const int ti = out.free_index[i];
-    out.std[ti] = confounded[i] ? inf : D[i] * std::sqrt(std::max(Sinv(i, i), 0.0));
+    out.std[ti] = confounded[i] ? inf : D[i] * std::sqrt(std::max(var[i], 0.0));
   }
   return out;
 }

@@ -6,7 +6,13 @@
 // comparable units) with (near) zero information are directions the data
 // cannot determine: they are reported by name, and every parameter taking
 // part in one gets an infinite standard deviation. The others get
-// sqrt(diag(S⁺)).
+// sqrt(diag(S⁺)), or where each frame's θ score g̃_t is known the larger of
+// that and the sandwich sqrt(diag(S⁺ B S⁺)), B = Σ_t g̃_t g̃_tᵀ. S⁺ alone
+// trusts the noise model; the sandwich does not: under a robust loss the
+// IRLS weights make S⁺ too small, and where readings of one frame share an
+// error (the virtual points of one tracked rigid body, fitted as markers)
+// only the frames' scores show it. With few frames B is noisy and of rank at
+// most their count, so it may widen a std but never narrow one.
 #pragma once
 
 #include <Eigen/Core>
@@ -36,6 +42,7 @@ UncertaintyResult estimateUncertainty(const MeasurementModel& model,
 // of a regression over θ alone, or the inverse of a filter's covariance).
 UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
                                              const SensorParameters& theta,
-                                             const Eigen::MatrixXd& S);
+                                             const Eigen::MatrixXd& S,
+                                             const Eigen::MatrixXd* score_outer = nullptr);
 
 }  // namespace stac
