@@ -9,6 +9,7 @@
 
 #include "methods/monolithic_costs.hpp"
 #include "methods/origin_verdict.hpp"
+#include "solve/origin_prior.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/error.hpp"
 #include "stac/evaluate.hpp"
@@ -208,6 +209,32 @@ TEST(JointOrigins, ThetaSpaceBlock) {
   EXPECT_DOUBLE_EQ(space.value(moved, o + 5), f.theta.joint_origin[0].rpy[2] + delta[o + 5]);
   const ParameterStd sd = space.toParameterStd(delta);
   EXPECT_EQ(sd.joint_origin[1].xyz, delta.segment<3>(o + 6));
+}
+
+// One posterior everywhere (origin_prior.hpp): the monolithic problem's
+// prior blocks sum to the cost the alternation and the classical regression
+// report, a held part (the elbow's rpy here) adding nothing.
+TEST(JointOrigins, MonolithicPriorIsTheSpacesPriorOverFreeParts) {
+  const RobotModel robot = RobotModel::fromFile(ur5Path());
+  const SensorsFile f = parseSensorsYaml(kOriginsYaml, "seed.yaml", robot);
+  const ThetaSpace space(f.sensors);
+  SensorParameters theta = f.theta;
+  std::mt19937 rng(4);
+  for (OriginCorrection& c : theta.joint_origin) c = randomCorrection(rng, 0.01, 0.1);
+  double total = 0;
+  for (size_t c = 0; c < theta.joint_origin.size(); ++c) {
+    const monolithic::OriginPriorCost cost(f.sensors.origin_prior.xyz, f.sensors.origin_prior.rpy,
+                                           f.sensors.joint_origins[c].fixed);
+    double p[6], r[6];
+    for (int k = 0; k < 3; ++k) p[k] = theta.joint_origin[c].xyz[k], p[3 + k] = theta.joint_origin[c].rpy[k];
+    const double* blocks[1] = {p};
+    ASSERT_TRUE(cost.Evaluate(blocks, r, nullptr));
+    for (int k = 0; k < 6; ++k) total += 0.5 * r[k] * r[k];
+    if (f.sensors.joint_origins[c].fixed.rpy)
+      for (int k = 3; k < 6; ++k) EXPECT_EQ(r[k], 0.0);
+  }
+  EXPECT_GT(total, 1.0);
+  EXPECT_NEAR(total, originPriorCost(space, theta), 1e-12 * total);
 }
 
 TEST(JointOrigins, SensorsFileErrorsNameKeyAndLine) {

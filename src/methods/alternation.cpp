@@ -13,6 +13,7 @@
 #include "stac/error.hpp"
 #include "solve/statistics.hpp"
 #include "solve/origin_phase.hpp"
+#include "solve/origin_prior.hpp"
 #include "solve/parallel.hpp"
 #include "solve/schur.hpp"
 #include "solve/theta_phase.hpp"
@@ -54,7 +55,7 @@ double adaptAndRescore(const Problem& problem, State* s, Workspaces* ws, PassSta
   }
   // Without a robust loss each group's whitened squares scale by
   // (κ_old / κ_new)², so no pass over the frames is needed.
-  st->cost = 0;
+  st->cost = originPriorCost(problem.model.thetaSpace(), s->theta);
   for (int g = 0; g < kNumSensorGroups; ++g) {
     const double r = before.kappa[g] / s->scales.kappa[g];
     st->group_cost[g] *= r * r;

@@ -113,10 +113,11 @@ bool MarkerReadingCost::Evaluate(double const* const* p, double* residuals,
   return true;
 }
 
-OriginPriorCost::OriginPriorCost(double xyz_std, double rpy_std) {
+OriginPriorCost::OriginPriorCost(double xyz_std, double rpy_std, const FixedOrigin& held) {
   for (int k = 0; k < 6; ++k) {
     const double s = k < 3 ? xyz_std : rpy_std;
-    inv_[k] = s > 0 ? 1.0 / s : 0.0;
+    const bool part_held = k < 3 ? held.xyz : held.rpy;
+    inv_[k] = s > 0 && !part_held ? 1.0 / s : 0.0;
   }
 }
 

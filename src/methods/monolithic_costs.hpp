@@ -92,10 +92,12 @@ class MarkerReadingCost : public ceres::CostFunction {
 };
 
 // The origin prior of one joint's correction c (SPEC §3 prior_std):
-//   r_k = c_k / σ_k   (6 residuals; 0 where that part has no prior)
+//   r_k = c_k / σ_k   (6 residuals; 0 where that part has no prior or is
+// held, as ThetaSpace's free entries with a prior are what every other
+// solver's cost sums, origin_prior.hpp)
 class OriginPriorCost : public ceres::SizedCostFunction<6, 6> {
  public:
-  OriginPriorCost(double xyz_std, double rpy_std);
+  OriginPriorCost(double xyz_std, double rpy_std, const FixedOrigin& held);
   bool Evaluate(double const* const* p, double* residuals, double** jac) const override;
 
  private:

@@ -162,7 +162,8 @@ void addThetaBlocks(const SensorSet& sensors, ThetaBlocks* theta, ceres::Problem
     const FixedOrigin& fixed = sensors.joint_origins[c].fixed;
     if (!problem->HasParameterBlock(b)) continue;
     if (prior.any() && !fixed.all())
-      problem->AddResidualBlock(new monolithic::OriginPriorCost(prior.xyz, prior.rpy), nullptr, b);
+      problem->AddResidualBlock(new monolithic::OriginPriorCost(prior.xyz, prior.rpy, fixed), nullptr,
+                                b);
     block(b, fixed.all());
     if (fixed.any() && !fixed.all())
       problem->SetManifold(b, new ceres::SubsetManifold(6, fixed.xyz ? std::vector<int>{0, 1, 2}

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solve/origin_prior.hpp"
 #include "solve/parallel.hpp"
 
 namespace stac {
@@ -69,6 +70,8 @@ PassStats costPass(const Problem& problem, const SensorParameters& theta, const 
   });
   PassStats total;
   for (const PassStats& s : chunk_stats) total.add(s);
+  // The cost every step minimises is the posterior's (origin_prior.hpp).
+  total.cost += originPriorCost(problem.model.thetaSpace(), theta);
   return total;
 }
 

@@ -15,7 +15,7 @@
 namespace stac {
 
 struct PassStats {
-  double cost = 0;
+  double cost = 0;  // ½ Σ ρ over the readings, plus the origin prior's cost
   double sse[kNumSensorGroups] = {0, 0, 0};      // raw units²
   double count[kNumSensorGroups] = {0, 0, 0};    // readings
   double wsse[kNumSensorGroups] = {0, 0, 0};     // Σ w s (seed-whitened)
