@@ -113,6 +113,28 @@ TEST(PotGuesses, MapReadingsOntoTheJointRangeUpToSign) {
   EXPECT_LT((q - p.q_true).cwiseAbs().maxCoeff(), 1e-9);
 }
 
+// Under a robust loss the span comes from the 5-95% quantiles: 5% gross
+// readings (20-60 σ) no longer set the map's scale, while the clean guess
+// is the min/max one (within the quantiles' share of an 80% swing).
+TEST(PotGuesses, GrossReadingsDoNotSetTheScaleUnderARobustLoss) {
+  const test::ArmProblem clean = eightyPercentArm();
+  test::ArmProblem p = clean;
+  test::addOutliers(p.sensors, 0.05, 7, &p.obs);
+  const std::vector<PotGuess> exact = makePotGuesses(clean.robot, clean.sensors, clean.seed,
+                                                     clean.obs);
+  const std::vector<PotGuess> naive = makePotGuesses(p.robot, p.sensors, p.seed, p.obs);
+  const std::vector<PotGuess> robust = makePotGuesses(p.robot, p.sensors, p.seed, p.obs, true);
+  ASSERT_EQ(robust.size(), exact.size());
+  double naive_worst = 0, robust_worst = 0;
+  for (size_t i = 0; i < exact.size(); ++i) {
+    naive_worst = std::max(naive_worst, std::abs(naive[i].map.alpha / exact[i].map.alpha - 1));
+    robust_worst = std::max(robust_worst, std::abs(robust[i].map.alpha / exact[i].map.alpha - 1));
+    EXPECT_EQ(robust[i].map.mid, exact[i].map.mid);
+  }
+  EXPECT_GT(naive_worst, 0.15);  // min/max: the outliers' span (20% here)
+  EXPECT_LT(robust_worst, 0.05);  // quantiles: the motion's (1.5% here)
+}
+
 TEST(PotGuesses, FixedSensorIsInvertedExactlyAndNeverChanged) {
   test::ArmProblem p = eightyPercentArm();
   p.sensors.joint_sensors[2].fixed = FixedGainBias::both(true);

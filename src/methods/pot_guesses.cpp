@@ -11,8 +11,19 @@
 
 namespace stac {
 
+namespace {
+
+// The value below which a share q of the sorted values lie (nearest rank).
+double quantile(const std::vector<double>& sorted, double q) {
+  const size_t i = static_cast<size_t>(std::lround(q * static_cast<double>(sorted.size() - 1)));
+  return sorted[i];
+}
+
+}  // namespace
+
 std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& sensors,
-                                     const SensorParameters& theta, const Observations& obs) {
+                                     const SensorParameters& theta, const Observations& obs,
+                                     bool gross_readings) {
   std::vector<PotGuess> out;
   std::vector<bool> covered(robot.dof(), false);
   for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
@@ -21,14 +32,20 @@ std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& s
     if (mj.is_mimic || covered[mj.q_index]) continue;
     double lo = robot.lowerLimits()[mj.q_index], hi = robot.upperLimits()[mj.q_index];
     if (!std::isfinite(lo) || !std::isfinite(hi)) lo = -M_PI, hi = M_PI;
-    double pmin = INFINITY, pmax = -INFINITY, sum = 0;
-    int n = 0;
-    for (int t = 0; t < obs.num_frames; ++t) {
-      const double p = obs.joint(t, s);
-      if (std::isnan(p)) continue;
-      pmin = std::min(pmin, p), pmax = std::max(pmax, p), sum += p, ++n;
-    }
+    std::vector<double> p;
+    for (int t = 0; t < obs.num_frames; ++t)
+      if (!std::isnan(obs.joint(t, s))) p.push_back(obs.joint(t, s));
+    const int n = static_cast<int>(p.size());
     if (n < 2) continue;
+    std::sort(p.begin(), p.end());
+    const double pmin = gross_readings ? quantile(p, 0.05) : p.front();
+    const double pmax = gross_readings ? quantile(p, 0.95) : p.back();
+    double centre = quantile(p, 0.5);
+    if (!gross_readings) {
+      double sum = 0;
+      for (double v : p) sum += v;
+      centre = sum / n;
+    }
     const GainBias& gb = theta.joint_sensor[s];
     PotGuess g;
     g.sensor = static_cast<int>(s);
@@ -36,7 +53,7 @@ std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& s
     g.fixed = sc.fixed.gain;
     g.bias_held = sc.fixed.bias;
     // A held bias alone: q = alpha (p - bias), the sign and scale unknown.
-    g.pivot = sc.fixed.bias && !sc.fixed.gain ? gb.bias : sum / n;
+    g.pivot = sc.fixed.bias && !sc.fixed.gain ? gb.bias : centre;
     g.map.mid = sc.fixed.bias && !sc.fixed.gain ? 0.0 : 0.5 * (lo + hi);
     if (sc.fixed.gain) {
       // A known scale: the exact inverse gain; with the bias held too, the

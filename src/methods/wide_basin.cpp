@@ -74,7 +74,7 @@ WideBasin::WideBasin(const MeasurementModel& model, const Observations& obs,
       seed_(seed),
       coupled_steps_(coupled_steps),
       marker_group_free_(hasFreeMarkerGroup(model.sensors())),
-      guesses_(makePotGuesses(model.robot(), model.sensors(), seed, obs)),
+      guesses_(makePotGuesses(model.robot(), model.sensors(), seed, obs, loss.enabled())),
       moves_(signMoves(model.robot(), guesses_)),
       sub_frames_(spreadFrames(obs.num_frames, kSearchFrames)),
       sub_(selectFrames(obs, sub_frames_)) {

@@ -55,9 +55,15 @@ struct PotGuess {
 // each by how well the markers then fit. A held gain makes alpha known
 // (1/gain), a held bias the map q = alpha (p - bias), both the exact
 // inverse. One guess per joint (the first of its sensors), none for mimic
-// joints or sensors with fewer than two readings.
+// joints or sensors with fewer than two readings. With `gross_readings`
+// (the user chose a robust loss) the span is the readings' 5-95% quantile
+// range and the pivot their median: a few gross readings otherwise set the
+// extremes, and the map's scale, alone (5% at 50-200 σ sent every hand24
+// truth of the basin test to a wrong minimum). On clean smooth motion the
+// quantiles cost about 1% of the span, which the scale sweep takes back.
 std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& sensors,
-                                     const SensorParameters& theta, const Observations& obs);
+                                     const SensorParameters& theta, const Observations& obs,
+                                     bool gross_readings = false);
 
 // A candidate initialisation of the pots: maps[i] for guesses[i].
 struct Candidate {
