@@ -62,6 +62,8 @@ MatrixIn matrixFrom(const py::handle& array, const char* what);
 // a text file written as stac_calib writes its outputs (InputError if not).
 py::dict gainBiasDict(const GainBias& gb);
 py::dict parametersDict(const SensorSet& sensors, const SensorParameters& theta);
+// Per corrected joint {xyz, rpy}: the corrections, or their std.
+py::dict originsDict(const SensorSet& sensors, const std::vector<OriginCorrection>& values);
 py::dict sigmaDict(const SensorSet& sensors);
 void writeText(const std::string& path, const std::string& text);
 

@@ -54,7 +54,8 @@ py::dict stdDict(const CalibrationResult& r) {
   for (size_t i = 0; i < s.tendon_sensors.size() && i < r.std.tendon_sensor.size(); ++i)
     tendons[py::str(s.tendon_sensors[i].name)] = gainBiasDict(r.std.tendon_sensor[i]);
   return py::dict("mocap"_a = mocap, "markers"_a = markers, "joint_sensors"_a = joints,
-                  "tendon_sensors"_a = tendons);
+                  "tendon_sensors"_a = tendons,
+                  "joint_origins"_a = originsDict(s, r.std.joint_origin));
 }
 
 template <class Config>
@@ -86,6 +87,14 @@ py::list unidentifiableList(const CalibrationSummary& s) {
   return l;
 }
 
+py::list originsList(const CalibrationSummary& s) {
+  py::list l;
+  for (const OriginDetermination& d : s.origins)
+    l.append(py::dict("joint"_a = d.joint, "determined"_a = d.determined,
+                      "on_prior"_a = d.on_prior));
+  return l;
+}
+
 py::dict summaryDict(const CalibrationSummary& s) {
   py::list downweighted;
   for (const DownweightedReading& d : s.downweighted)
@@ -97,7 +106,7 @@ py::dict summaryDict(const CalibrationSummary& s) {
                   "rms_before"_a = perGroup(s, s.before_rms),
                   "rms_after"_a = perGroup(s, s.after_rms),
                   "unidentifiable"_a = unidentifiableList(s), "downweighted"_a = downweighted,
-                  "verdict"_a = s.verdict);
+                  "joint_origins"_a = originsList(s), "verdict"_a = s.verdict);
 }
 
 std::string yamlOf(const Calibration& c) {

@@ -7,12 +7,22 @@
 #include "stac/error.hpp"
 #include "stac/file_io.hpp"
 
+using namespace pybind11::literals;
+
 namespace stac::python {
 
 py::dict gainBiasDict(const GainBias& gb) {
   py::dict d;
   d["gain"] = gb.gain;
   d["bias"] = gb.bias;
+  return d;
+}
+
+py::dict originsDict(const SensorSet& sensors, const std::vector<OriginCorrection>& values) {
+  py::dict d;
+  for (size_t c = 0; c < sensors.joint_origins.size() && c < values.size(); ++c)
+    d[py::str(sensors.joint_origins[c].joint_name)] =
+        py::dict("xyz"_a = vector3(values[c].xyz), "rpy"_a = vector3(values[c].rpy));
   return d;
 }
 
@@ -35,6 +45,7 @@ py::dict parametersDict(const SensorSet& sensors, const SensorParameters& theta)
   d["markers"] = markers;
   d["joint_sensors"] = joints;
   d["tendon_sensors"] = tendons;
+  d["joint_origins"] = originsDict(sensors, theta.joint_origin);
   return d;
 }
 

@@ -45,12 +45,18 @@ class _GainBias(TypedDict):
     gain: float
     bias: float
 
+class _Origin(TypedDict):
+    xyz: _Array
+    rpy: _Array
+
 class Parameters(TypedDict):
-    """θ: 'mocap' has 'translation', 'rpy', 'quaternion' ([w, x, y, z]) when there are markers."""
+    """θ: 'mocap' has 'translation', 'rpy', 'quaternion' ([w, x, y, z]) when there are markers;
+    'joint_origins' the corrections of the joints the sensors file names (SPEC §3)."""
     mocap: Dict[str, _Array]
     markers: Dict[str, _Array]
     joint_sensors: Dict[str, _GainBias]
     tendon_sensors: Dict[str, _GainBias]
+    joint_origins: Dict[str, _Origin]
 
 class Sensors:
     """Sensors and their parameters θ: a seed, or a calibration read back."""
@@ -113,6 +119,7 @@ class Summary(TypedDict):
     rms_after: Dict[str, float]
     unidentifiable: List[_Unidentifiable]
     downweighted: List[Dict[str, Any]]
+    joint_origins: List[Dict[str, Any]]  # per corrected joint: 'joint', 'determined', 'on_prior'
     verdict: List[str]
 
 class Progress(TypedDict):
