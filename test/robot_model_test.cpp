@@ -99,6 +99,14 @@ void checkJacobians(const RobotModel& m, int trials) {
   }
 }
 
+TEST(RobotModel, LinkOfJointNamesTheLinkAJointAttaches) {
+  const RobotModel m = RobotModel::fromString(kPlanar2);
+  EXPECT_EQ(m.linkOfJoint("elbow"), m.linkIndex("fore"));
+  EXPECT_EQ(m.linkOfJoint("tip_joint"), m.linkIndex("tip"));  // a fixed joint too
+  EXPECT_FALSE(m.linkOfJoint("upper"));  // a link's name is not a joint's
+  EXPECT_FALSE(m.linkOfJoint(""));       // the root has no joint
+}
+
 TEST(RobotModel, PointJacobiansMatchFiniteDifferencesOnEveryRobot) {
   const auto files = allUrdfs();
   ASSERT_FALSE(files.empty());

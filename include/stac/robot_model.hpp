@@ -82,6 +82,9 @@ class RobotModel {
   const std::vector<Link>& links() const { return links_; }
   int numLinks() const { return static_cast<int>(links_.size()); }
   std::optional<int> linkIndex(const std::string& link_name) const;
+  // The link a URDF joint attaches (any joint, fixed ones too, but none for
+  // the root): where a joint-origin correction acts.
+  std::optional<int> linkOfJoint(const std::string& joint_name) const;
   const std::vector<std::string>& allJointNames() const { return joint_names_; }
 
   // For a link, the movable joints on its path to the root (the only columns

@@ -1,21 +1,11 @@
 // `--joint-origins` (SPEC §4): zero corrections added to a seed.
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include "stac/sensors_file.hpp"
 
 namespace stac {
-namespace {
-
-// The link a URDF joint attaches, or -1.
-int linkOfJoint(const RobotModel& model, const std::string& joint) {
-  for (int l = 0; l < model.numLinks(); ++l)
-    if (model.links()[l].parent >= 0 && model.links()[l].joint_name == joint) return l;
-  return -1;
-}
-
-}  // namespace
-
 void addJointOrigins(const RobotModel& model, const std::vector<std::string>& joints,
                      SensorsFile* file) {
   std::vector<std::string> names;
@@ -27,10 +17,11 @@ void addJointOrigins(const RobotModel& model, const std::vector<std::string>& jo
   }
   SensorSet& s = file->sensors;
   for (const std::string& name : names) {
-    const int link = linkOfJoint(model, name);
-    if (link < 0)
+    const std::optional<int> found = model.linkOfJoint(name);
+    if (!found)
       throw std::invalid_argument("unknown joint '" + name + "' (not in " + model.sourceName() +
                                   ")");
+    const int link = *found;
     const bool listed = std::any_of(s.joint_origins.begin(), s.joint_origins.end(),
                                     [&](const JointOriginConfig& c) { return c.link == link; });
     if (listed) continue;

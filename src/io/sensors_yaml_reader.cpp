@@ -450,8 +450,7 @@ void readTendonSensors(Reader& rd, const YAML::Node& list, SensorSet* s, SensorP
 // origin is geometry too).
 int originLink(Reader& rd, const RobotModel& robot, const YAML::Node& n, const std::string& key) {
   const std::string name = rd.text(n, key);
-  for (int l = 0; l < robot.numLinks(); ++l)
-    if (robot.links()[l].parent >= 0 && robot.links()[l].joint_name == name) return l;
+  if (const std::optional<int> link = robot.linkOfJoint(name)) return *link;
   rd.fail(n, key, "unknown joint '" + name + "' (not in " + robot.sourceName() + ")");
 }
 

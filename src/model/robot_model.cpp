@@ -26,6 +26,12 @@ std::optional<int> RobotModel::linkIndex(const std::string& link_name) const {
   return it->second;
 }
 
+std::optional<int> RobotModel::linkOfJoint(const std::string& joint_name) const {
+  for (int l = 0; l < numLinks(); ++l)
+    if (links_[l].parent >= 0 && links_[l].joint_name == joint_name) return l;
+  return std::nullopt;
+}
+
 void RobotModel::expand(const Eigen::VectorXd& q,
                         Eigen::VectorXd* movable_q) const {
   movable_q->resize(static_cast<Eigen::Index>(movable_.size()));
