@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <functional>
 #include <iostream>
-#include <sstream>
 
 #include "common/calib_report.hpp"
 #include "common/cli.hpp"
@@ -214,24 +213,16 @@ int holdoutFrames(double holdout, const cli::Args& args, int frames,
   return test_frames;
 }
 
-std::vector<std::string> splitCommas(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, ',');) parts.push_back(part);
-  if (!text.empty() && text.back() == ',') parts.emplace_back();
-  return parts;
-}
-
 // --origin-prior XYZ,RPY: two positive finite numbers.
 OriginPrior parseOriginPrior(const cli::Args& args) {
-  const std::vector<std::string> parts = splitCommas(args.get("origin-prior"));
+  const std::vector<std::string> parts = args.getList("origin-prior", "number");
   OriginPrior prior;
   double* out[2] = {&prior.xyz, &prior.rpy};
   bool ok = parts.size() == 2;
   for (size_t i = 0; ok && i < 2; ++i) {
-    char* end = nullptr;
-    *out[i] = std::strtod(parts[i].c_str(), &end);
-    ok = !parts[i].empty() && *end == '\0' && std::isfinite(*out[i]) && *out[i] > 0;
+    const std::optional<double> v = cli::parseFiniteNumber(parts[i]);
+    ok = v && *v > 0;
+    if (ok) *out[i] = *v;
   }
   if (!ok)
     throw cli::UsageError(args.typed("origin-prior") +
@@ -243,9 +234,7 @@ OriginPrior parseOriginPrior(const cli::Args& args) {
 void applyOriginOptions(const cli::Args& args, const RobotModel& robot, SensorsFile* sf) {
   const size_t listed = sf->sensors.joint_origins.size();
   if (args.has("joint-origins")) {
-    const std::vector<std::string> names = splitCommas(args.get("joint-origins"));
-    if (std::any_of(names.begin(), names.end(), [](const std::string& n) { return n.empty(); }))
-      throw cli::UsageError(args.typed("joint-origins") + ": expected all or J1,J2,...");
+    const std::vector<std::string> names = args.getList("joint-origins", "joint name");
     try {
       addJointOrigins(robot, names, sf);
     } catch (const std::invalid_argument& e) {

@@ -41,12 +41,8 @@ const char* kSynopsis =
 
 // "joint,tendon" -> flags per group; UsageError on an unknown or repeated name.
 void parseGroups(const cli::Args& args, const std::string& flag, bool out[kNumSensorGroups]) {
-  const std::string text = args.get(flag);
   for (int g = 0; g < kNumSensorGroups; ++g) out[g] = false;
-  size_t begin = 0;
-  while (true) {
-    const size_t end = text.find(',', begin);
-    const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
+  for (const std::string& item : args.getList(flag, "sensor group")) {
     int found = -1;
     for (int g = 0; g < kNumSensorGroups; ++g)
       if (item == groupName(static_cast<SensorGroup>(g))) found = g;
@@ -55,8 +51,6 @@ void parseGroups(const cli::Args& args, const std::string& flag, bool out[kNumSe
                             "' (expected a comma-separated list of marker, joint, tendon)");
     if (out[found]) throw cli::UsageError(args.typed(flag) + ": names '" + item + "' twice");
     out[found] = true;
-    if (end == std::string::npos) break;
-    begin = end + 1;
   }
 }
 

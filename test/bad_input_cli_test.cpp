@@ -166,6 +166,12 @@ TEST_F(BadInputCli, OptionValuesOutOfRangeNameFlagAndValue) {
       {"stac_eval", eval_args + "--predict joint,bogus",
        "--predict joint,bogus: unknown sensor group 'bogus' (expected a comma-separated list "
        "of marker, joint, tendon)"},
+      {"stac_eval", eval_args + "--predict joint,,tendon",
+       "--predict joint,,tendon: an empty sensor group"},
+      {"stac_calib", calib_args + "--sensors " + file("truth.yaml") + " --joint-origins j1,",
+       "--joint-origins j1,: an empty joint name"},
+      {"stac_calib", calib_args + "--sensors " + file("truth.yaml") + " --joint-origins all --origin-prior 0.01,",
+       "--origin-prior 0.01,: an empty number"},
       {"stac_simulate", sim_args + "--frames 0", "--frames 0: must be at least 1"},
       {"stac_simulate", sim_args + "--frames 9 --noise-scale -1",
        "--noise-scale -1: must be finite and >= 0"},

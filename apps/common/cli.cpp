@@ -29,13 +29,18 @@ void Args::bad(const std::string& name, const std::string& what) const {
   throw UsageError(typed(name) + ": " + what);
 }
 
+std::optional<double> parseFiniteNumber(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 double Args::getDouble(const std::string& name, double fallback) const {
   if (!has(name)) return fallback;
-  const std::string s = get(name);
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0' || !std::isfinite(v)) bad(name, "expects a finite number");
-  return v;
+  const std::optional<double> v = parseFiniteNumber(get(name));
+  if (!v) bad(name, "expects a finite number");
+  return *v;
 }
 
 int Args::getInt(const std::string& name, int fallback) const {
@@ -47,6 +52,19 @@ int Args::getInt(const std::string& name, int fallback) const {
   if (s.empty() || *end != '\0' || errno == ERANGE || v < -1000000000L || v > 1000000000L)
     bad(name, "expects an integer");
   return static_cast<int>(v);
+}
+
+std::vector<std::string> Args::getList(const std::string& name, const std::string& item) const {
+  std::vector<std::string> out;
+  if (!has(name)) return out;
+  const std::string v = get(name);
+  for (size_t start = 0;;) {
+    const size_t comma = v.find(',', start);
+    out.push_back(v.substr(start, comma == std::string::npos ? comma : comma - start));
+    if (out.back().empty()) bad(name, "an empty " + item);
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
 }
 
 double Args::getPositive(const std::string& name, double fallback) const {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -23,6 +24,9 @@ struct Option {
   std::string help;
   bool required = false;
 };
+
+// The whole of `text` as a finite number, or nothing.
+std::optional<double> parseFiniteNumber(const std::string& text);
 
 // The parsed options. Every getter that checks a value throws a UsageError
 // that names the flag and the value as typed ("--loss-scale -1: must be
@@ -46,6 +50,9 @@ class Args {
                     const std::string& meaning = "") const;
   // A non-negative integer up to 2^64-1 (a random seed).
   std::uint64_t getUnsigned(const std::string& name, std::uint64_t fallback) const;
+  // "a,b,c" -> {a, b, c} (empty when absent); an empty item (",," or a
+  // trailing comma) is a typo: UsageError "an empty <item>".
+  std::vector<std::string> getList(const std::string& name, const std::string& item) const;
   // One of `choices`, or fallback when absent; UsageError otherwise.
   std::string getChoice(const std::string& name,
                         const std::vector<std::string>& choices,

@@ -3,28 +3,9 @@
 #include <vector>
 
 namespace stac::cli {
-namespace {
-
-// "a,b,c" -> {a, b, c}; an empty name (",," or a trailing comma) is a typo.
-std::vector<std::string> nameList(const Args& args, const std::string& name) {
-  std::vector<std::string> out;
-  if (!args.has(name)) return out;
-  const std::string v = args.get(name);
-  size_t start = 0;
-  while (true) {
-    const size_t comma = v.find(',', start);
-    const std::string item = v.substr(start, comma == std::string::npos ? comma : comma - start);
-    if (item.empty()) throw UsageError(args.typed(name) + ": an empty column name");
-    out.push_back(item);
-    if (comma == std::string::npos) return out;
-    start = comma + 1;
-  }
-}
-
-}  // namespace
 
 std::vector<std::string> ignoredColumns(const Args& args) {
-  return nameList(args, "ignore-columns");
+  return args.getList("ignore-columns", "column name");
 }
 
 Option ignoreColumnsOption() {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
@@ -40,12 +41,8 @@ std::vector<PotGuess> makePotGuesses(const RobotModel& robot, const SensorSet& s
     std::sort(p.begin(), p.end());
     const double pmin = gross_readings ? quantile(p, 0.05) : p.front();
     const double pmax = gross_readings ? quantile(p, 0.95) : p.back();
-    double centre = quantile(p, 0.5);
-    if (!gross_readings) {
-      double sum = 0;
-      for (double v : p) sum += v;
-      centre = sum / n;
-    }
+    const double centre =
+        gross_readings ? quantile(p, 0.5) : std::accumulate(p.begin(), p.end(), 0.0) / n;
     const GainBias& gb = theta.joint_sensor[s];
     PotGuess g;
     g.sensor = static_cast<int>(s);

@@ -59,7 +59,6 @@ void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
   }
 }
 
-
 void dampQ(double lambda, Eigen::MatrixXd* H) { addDamping(lambda, *H, H); }
 }  // namespace
 
