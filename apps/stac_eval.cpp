@@ -43,12 +43,11 @@ const char* kSynopsis =
 void parseGroups(const cli::Args& args, const std::string& flag, bool out[kNumSensorGroups]) {
   for (int g = 0; g < kNumSensorGroups; ++g) out[g] = false;
   for (const std::string& item : args.getList(flag, "sensor group")) {
-    int found = -1;
-    for (int g = 0; g < kNumSensorGroups; ++g)
-      if (item == groupName(static_cast<SensorGroup>(g))) found = g;
-    if (found < 0)
+    const std::optional<SensorGroup> group = groupFromName(item);
+    if (!group)
       throw cli::UsageError(args.typed(flag) + ": unknown sensor group '" + item +
                             "' (expected a comma-separated list of marker, joint, tendon)");
+    const int found = static_cast<int>(*group);
     if (out[found]) throw cli::UsageError(args.typed(flag) + ": names '" + item + "' twice");
     out[found] = true;
   }

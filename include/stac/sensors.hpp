@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -134,6 +135,8 @@ struct SensorParameters {
 };
 
 const char* groupName(SensorGroup g);
+// The group groupName gives `name` ("marker", "joint", "tendon"), or none.
+std::optional<SensorGroup> groupFromName(const std::string& name);
 // The unit of a group's residuals in reports: "m" (markers, Euclidean), "raw"
 // (a sensor's own unit).
 const char* groupUnit(SensorGroup g);

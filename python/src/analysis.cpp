@@ -40,13 +40,13 @@ py::dict simulateLogOf(const RobotModel& robot, const Sensors& truth, int frames
 }
 
 int groupIndex(const std::string& name, const char* what) {
-  for (int g = 0; g < kNumSensorGroups; ++g)
-    if (name == groupName(static_cast<SensorGroup>(g))) return g;
+  if (const std::optional<SensorGroup> g = groupFromName(name)) return static_cast<int>(*g);
   throw py::value_error(std::string(what) + " '" + name + "': must be marker, joint or tendon");
 }
 
-// The groups of `names` into flags; each must have sensors (as stac_eval
-// refuses --use/--predict of a group the sensors file lacks).
+// The groups of `names` into flags; each must have sensors and be named once
+// (as stac_eval refuses --use/--predict of a group the sensors file lacks,
+// or names twice).
 void groupFlags(const std::vector<std::string>& names, const Sensors& s, const char* what,
                 bool* flags) {
   std::fill(flags, flags + kNumSensorGroups, false);
@@ -55,6 +55,7 @@ void groupFlags(const std::vector<std::string>& names, const Sensors& s, const c
     if (s.file.sensors.groupSize(static_cast<SensorGroup>(g)) == 0)
       throw py::value_error(std::string(what) + " " + name + ": the sensors file '" + s.source +
                             "' has no " + name + " sensors");
+    if (flags[g]) throw py::value_error(std::string(what) + ": names '" + name + "' twice");
     flags[g] = true;
   }
 }

@@ -169,6 +169,8 @@ def test_evaluate_groups(gimbal2):
         stac.evaluate(robot, seed, log, use=["joint"])
     with pytest.raises(ValueError, match="must be marker, joint or tendon"):
         stac.evaluate(robot, seed, log, use=["pots"])
+    with pytest.raises(ValueError, match="use: names 'tendon' twice"):
+        stac.evaluate(robot, seed, log, use=["tendon", "tendon"])
 
 
 def test_truth_that_does_not_match(tmp_path, gimbal2):

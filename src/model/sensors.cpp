@@ -11,6 +11,12 @@ const char* groupName(SensorGroup g) {
   return "?";
 }
 
+std::optional<SensorGroup> groupFromName(const std::string& name) {
+  for (int g = 0; g < kNumSensorGroups; ++g)
+    if (name == groupName(static_cast<SensorGroup>(g))) return static_cast<SensorGroup>(g);
+  return std::nullopt;
+}
+
 std::array<std::string, 3> MarkerConfig::logColumns() const {
   const char* axis[3] = {".x", ".y", ".z"};
   std::array<std::string, 3> out;
