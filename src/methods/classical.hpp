@@ -55,6 +55,10 @@ InverseMap inverseMap(const GainBias& gb);
 // (a, c) -> (gain, bias); throws std::domain_error for a = 0.
 GainBias forwardMap(const InverseMap& ic);
 
+// A defining sensor whose bias alone is held: its offset is tied to its
+// inverse gain, c = -bias a.
+bool tiedOffset(const FixedGainBias& fixed);
+
 // The regression's parameters: θ, where the (gain, bias) of defining joint
 // sensors are ignored in favour of `inverse` (indexed by joint sensor).
 struct ClassicalParameters {

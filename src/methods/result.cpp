@@ -2,7 +2,9 @@
 #include <algorithm>
 #include <chrono>
 
+
 #include "methods/method.hpp"
+#include "methods/turn_ambiguity.hpp"
 #include "methods/verdict.hpp"
 #include "solve/pass.hpp"
 #include "solve/statistics.hpp"
@@ -87,6 +89,8 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   std::copy(out.before_rms, out.before_rms + kNumSensorGroups, summary.before_rms);
   std::copy(out.after_rms, out.after_rms + kNumSensorGroups, summary.after_rms);
   summary.unidentifiable = std::move(out.uncertainty.unidentifiable);
+  for (UnidentifiableDirection& d : turnAmbiguities(model, result.theta, out.q))
+    summary.unidentifiable.push_back(std::move(d));
   if (out.uncertainty.std.size() == model.thetaSpace().size())
     summary.origins = originDetermination(model.thetaSpace(), out.uncertainty.std);
   summary.downweighted = downweightedReadings(problem.on(fitted), result.theta, out.noise, q,

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <utility>
 
+#include "methods/tree_search.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
 #include "solve/schur.hpp"
@@ -265,8 +266,7 @@ double WideBasin::refinedCost(SensorParameters th, QState st) const {
 // is kept if it lowers the cost clearly.
 bool WideBasin::recheckSigns(Estimate* est) const {
   QState ss;
-  ss.q = RowMatrix(sub_.num_frames, model_.dof());
-  for (int i = 0; i < sub_.num_frames; ++i) ss.q.row(i) = est->state.q.row(sub_frames_[i]);
+  ss.q = subsampleAngles(est->state.q);
   if (!someSensorMisfits(model_, est->theta, noise_, sub_, ss.q)) return false;
   bool flipped_any = false;
   double base = refinedCost(est->theta, ss);
@@ -280,7 +280,7 @@ bool WideBasin::recheckSigns(Estimate* est) const {
       if (!(refinedCost(th, st) < 0.8 * base)) continue;
       // Clearly better: keep it, on every frame.
       for (int i : move) flipSign(guesses_[i], &est->theta, &est->state.q);
-      for (int i = 0; i < sub_.num_frames; ++i) ss.q.row(i) = est->state.q.row(sub_frames_[i]);
+      ss.q = subsampleAngles(est->state.q);
       base = refinedCost(est->theta, ss);
       changed = flipped_any = true;
     }
@@ -289,17 +289,51 @@ bool WideBasin::recheckSigns(Estimate* est) const {
   return flipped_any;
 }
 
-SensorParameters WideBasin::run(QState* state) const {
+// The pots' maps adopted, the marker group in closed form, then the
+// marker-led alternation and its sign re-check.
+Estimate WideBasin::estimateFrom(const Candidate* maps, QState state) const {
   Estimate est;
   est.theta = seed_;
-  est.state = std::move(*state);
-  if (!guesses_.empty()) adoptPotMaps(searchPotMaps(), &est);
+  est.state = std::move(state);
+  if (maps) adoptPotMaps(*maps, &est);
   if (marker_group_free_)
     initialiseMarkerGroup(model_, obs_, est.state, 3, threads_, ws_, &est.theta);
-  if (!guesses_.empty() && marker_group_free_) alternate(kInitPotWeight, 1e-3, &est);
+  if (maps && marker_group_free_) alternate(kInitPotWeight, 1e-3, &est);
   alternate(potWeight(), 1e-3, &est);
   if (marker_group_free_ && !moves_.empty() && recheckSigns(&est))
     alternate(potWeight(), 1e-4, &est);
+  return est;
+}
+
+RowMatrix WideBasin::subsampleAngles(const RowMatrix& q) const {
+  RowMatrix out(sub_.num_frames, model_.dof());
+  for (int i = 0; i < sub_.num_frames; ++i) out.row(i) = q.row(sub_frames_[i]);
+  return out;
+}
+
+// The markers and pots (the tendons are not initialised yet) at est.
+double WideBasin::markerPotCost(Estimate* est) const {
+  FrameOptions eval;
+  eval.group_weight[1] = potWeight();
+  eval.group_weight[2] = 0.0;
+  return totalCost(model_, est->theta, noise_, loss_, obs_, eval, threads_, ws_, &est->state);
+}
+
+SensorParameters WideBasin::run(QState* state) const {
+  const QState neutral = *state;
+  const Candidate searched = guesses_.empty() ? Candidate() : searchPotMaps();
+  Estimate est = estimateFrom(guesses_.empty() ? nullptr : &searched, std::move(*state));
+  // A marker or pot still far off its noise: the sweeps' start (swings
+  // about each range's middle) may have been wrong. The tree-order search
+  // assumes nothing about the swings; its estimate replaces the first if it
+  // fits better.
+  if (marker_group_free_ && !guesses_.empty() &&
+      someSensorMisfits(model_, est.theta, noise_, sub_, subsampleAngles(est.state.q))) {
+    if (const auto tree = treeOrderMaps(model_, sub_, loss_, guesses_, seed_, threads_)) {
+      Estimate alt = estimateFrom(&*tree, neutral);
+      if (markerPotCost(&alt) < markerPotCost(&est)) est = std::move(alt);
+    }
+  }
   ThetaPhaseOptions pots;
   pots.threads = threads_;
   pots.update[0] = false;

@@ -188,10 +188,17 @@ class WideBasin {
   void alternate(double pot_weight, double tol, Estimate* est) const;
   // The coupled re-check of the signs (see the .cpp); whether one changed.
   bool recheckSigns(Estimate* est) const;
+  // The estimate from the pots' maps (none: no pot guessed) and q on entry:
+  // every step above after the search.
+  Estimate estimateFrom(const Candidate* maps, QState state) const;
 
  private:
   // The cost after a few alternations and coupled steps on the subsample.
   double refinedCost(SensorParameters theta, QState state) const;
+  // Rows sub_frames_ of q (every frame of obs).
+  RowMatrix subsampleAngles(const RowMatrix& q) const;
+  // The cost of the markers and pots over obs at est (fills est's costs).
+  double markerPotCost(Estimate* est) const;
   // The pots' group weight once they carry their guessed maps.
   double potWeight() const { return guesses_.empty() ? 0.0 : 1.0; }
 

@@ -1,0 +1,295 @@
+// The tree-order search of the pots' initial maps (see tree_search.hpp).
+#include "methods/tree_search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "methods/regression.hpp"
+#include "solve/theta_phase.hpp"
+
+namespace stac {
+namespace {
+
+// σ of the readings a stage leaves out: their weight is 1e-12 of a
+// millimetre-σ marker's, nothing, while the model and θ keep their layout.
+constexpr double kLeftOut = 1e6;
+// Fits kept from one stage to the next.
+constexpr int kBeam = 3;
+// Coverage scales of a start: the guess's (80% of the range), half, a quarter.
+constexpr double kStartScales[] = {1.0, 0.5, 0.25};
+// Levenberg-Marquardt iterations of one start: a start in the right basin
+// is close after a few; the rest only need to be told apart.
+constexpr int kStartIterations = 15;
+constexpr int kSearchFrames = 80;
+constexpr int kMinFrames = 20;
+
+// One stage: the guesses whose maps it searches, and the markers in its fit.
+struct Stage {
+  std::vector<int> guesses;
+  std::vector<bool> in_fit;  // per marker
+};
+
+// Tree order: a joint after every joint above it (fewer supporting joints
+// first; q order among equals).
+std::vector<int> treeOrder(const RobotModel& robot) {
+  auto depth = [&](int j) {
+    const int link = robot.movableJoints()[robot.qJoints()[j]].child_link;
+    return robot.supportingJoints(link).size();
+  };
+  std::vector<int> order(robot.dof());
+  for (int j = 0; j < robot.dof(); ++j) order[j] = j;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return depth(a) < depth(b); });
+  return order;
+}
+
+// The stages, from the root outward: a joint joins the first stage in
+// whose fit some marker it moves appears. Joints below which no marker is
+// ever seen join none (their guesses stand).
+std::vector<Stage> planStages(const MeasurementModel& model, const std::vector<int>& guess_of) {
+  const int M = static_cast<int>(model.sensors().markers.size());
+  std::vector<bool> processed(model.dof(), false), in_fit(M, false);
+  auto seen = [&](int m) {
+    for (int c : model.markerColumns(m))
+      if (!processed[c]) return false;
+    return true;
+  };
+  for (int m = 0; m < M; ++m) in_fit[m] = seen(m);
+  std::vector<Stage> stages;
+  std::vector<int> pending;
+  for (int j : treeOrder(model.robot())) {
+    processed[j] = true;
+    pending.push_back(guess_of[j]);
+    bool new_marker = false;
+    for (int m = 0; m < M; ++m)
+      if (!in_fit[m] && seen(m)) in_fit[m] = new_marker = true;
+    if (!new_marker) continue;
+    stages.push_back({pending, in_fit});
+    pending.clear();
+  }
+  return stages;
+}
+
+// The sensors of a stage's fit: the markers it sees, the defining pots of
+// the joints processed so far (the others held at their maps), nothing
+// else (left out: held, with σ kLeftOut).
+SensorSet stageSensors(const SensorSet& all, const JointSources& sources,
+                       const std::vector<bool>& in_fit, const std::vector<bool>& searched) {
+  SensorSet s = all;
+  s.joint_origins.clear();
+  for (size_t m = 0; m < s.markers.size(); ++m)
+    if (!in_fit[m]) s.markers[m].fixed = true, s.markers[m].sigma = kLeftOut;
+  for (size_t j = 0; j < s.joint_sensors.size(); ++j) {
+    if (sources.defining[j] && searched[j]) continue;
+    s.joint_sensors[j].fixed = FixedGainBias::both(true);
+    if (!sources.defining[j]) s.joint_sensors[j].sigma = kLeftOut;
+  }
+  for (TendonSensorConfig& t : s.tendon_sensors) {
+    t.fixed = FixedGainBias::both(true);
+    t.sigma = kLeftOut;
+  }
+  return s;
+}
+
+InverseMap toInverse(const PotGuess& g, const PotMap& m) {
+  return {m.alpha, m.mid - m.alpha * g.pivot};
+}
+
+PotMap toPotMap(const PotGuess& g, const InverseMap& im) {
+  return {im.a, im.a * g.pivot + im.c};
+}
+
+// The starts of guess g: every sign, scale and offset its held parts leave
+// free.
+std::vector<PotMap> startMaps(const RobotModel& robot, const PotGuess& g) {
+  if (g.fixed && g.bias_held) return {g.map};
+  const std::vector<double> signs = g.fixed ? std::vector<double>{1.0}
+                                            : std::vector<double>{1.0, -1.0};
+  const std::vector<double> scales = g.fixed ? std::vector<double>{1.0}
+                                             : std::vector<double>(std::begin(kStartScales),
+                                                                   std::end(kStartScales));
+  const std::vector<double> mids = g.bias_held ? std::vector<double>{g.map.mid}
+                                               : startOffsets(robot, g.column);
+  std::vector<PotMap> out;
+  for (double sign : signs)
+    for (double scale : scales)
+      for (double mid : mids) out.push_back({sign * scale * g.map.alpha, mid});
+  return out;
+}
+
+double wrapAngle(double a) { return a - 2 * M_PI * std::round(a / (2 * M_PI)); }
+
+struct Fit {
+  ClassicalParameters p;
+  double cost = std::numeric_limits<double>::infinity();
+};
+
+// Two fits alike: every searched map with the same sign, and either the
+// same cost (to 0.1%: a gauge, e.g. the first joint's offset against the
+// mocap frame's turn about its axis, moves maps without changing the fit)
+// or each map's scale within 2% and offset within 0.05 (radians, modulo a
+// turn). Mirror images, which a later stage may tell apart, stay distinct.
+bool sameFit(const Fit& a, const Fit& b, const std::vector<PotGuess>& guesses,
+             const std::vector<bool>& done) {
+  bool maps_alike = true;
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    if (!done[i]) continue;
+    const PotMap ma = toPotMap(guesses[i], a.p.inverse[guesses[i].sensor]);
+    const PotMap mb = toPotMap(guesses[i], b.p.inverse[guesses[i].sensor]);
+    if (ma.alpha * mb.alpha <= 0) return false;
+    maps_alike &=
+        std::abs(ma.alpha - mb.alpha) <= 0.02 * std::max(std::abs(ma.alpha), std::abs(mb.alpha)) &&
+        std::abs(wrapAngle(ma.mid - mb.mid)) <= 0.05;
+  }
+  return maps_alike || std::abs(a.cost - b.cost) <= 1e-3 * std::max(a.cost, b.cost);
+}
+
+// One stage's fitting: the regression restricted to the stage's sensors.
+class StageFit {
+ public:
+  StageFit(const RobotModel& robot, const JointSources& sources, SensorSet sensors,
+           const Observations& frames, const RobustLoss& loss, int threads)
+      : sensors_(std::move(sensors)),
+        stage_(robot, sensors_),
+        sources_(sources),
+        frames_(frames),
+        noise_(NoiseModel::fromSeeds(sensors_)),
+        threads_(threads),
+        reg_(stage_, sources_, frames_, loss, threads) {
+    for (int i = 0; i < threads; ++i) ws_.emplace_back(stage_);
+    options_.max_iterations = kStartIterations;
+    options_.tolerance = 1e-5;
+  }
+
+  // From p: the mocap frame and markers in closed form for p's angles, then
+  // Levenberg-Marquardt.
+  Fit refine(ClassicalParameters p) {
+    QState angles;
+    angles.q = RowMatrix(frames_.num_frames, stage_.dof());
+    Eigen::VectorXd q;
+    for (int t = 0; t < frames_.num_frames; ++t) {
+      anglesFromSensors(stage_.robot(), stage_.sensors(), sources_, p.inverse,
+                        frameReadings(frames_, t).joint, &q);
+      angles.q.row(t) = q.transpose();
+    }
+    initialiseMarkerGroup(stage_, frames_, angles, 2, threads_, &ws_, &p.theta);
+    bool converged = false;
+    reg_.solve(noise_, noise_, options_, Clock::now(), 0, &p, &converged);
+    Fit f;
+    f.cost = reg_.pass(p, noise_, noise_, false).cost;
+    f.p = std::move(p);
+    return f;
+  }
+
+ private:
+  const SensorSet sensors_;  // the stage's model points into it
+  const MeasurementModel stage_;
+  const JointSources& sources_;
+  const Observations& frames_;
+  const NoiseModel noise_;
+  const int threads_;
+  Regression reg_;
+  std::vector<FrameWorkspace> ws_;
+  CalibrationOptions options_;
+};
+
+// The frames of `sub` with every defining reading, at most kSearchFrames.
+Observations usableSubsample(const Observations& sub, const JointSources& sources) {
+  std::vector<int> usable;
+  for (int t = 0; t < sub.num_frames; ++t) {
+    bool ok = true;
+    for (size_t j = 0; j < sources.defining.size() && ok; ++j)
+      ok = !(sources.defining[j] && std::isnan(sub.joint(t, static_cast<int>(j))));
+    if (ok) usable.push_back(t);
+  }
+  std::vector<int> picked;
+  for (int i : spreadFrames(static_cast<int>(usable.size()), kSearchFrames))
+    picked.push_back(usable[i]);
+  return selectFrames(sub, picked);
+}
+
+// Keeps the kBeam best of fits, one of each alike group.
+std::vector<Fit> bestDistinct(std::vector<Fit> fits, const std::vector<PotGuess>& guesses,
+                              const std::vector<bool>& done) {
+  std::sort(fits.begin(), fits.end(), [](const Fit& a, const Fit& b) { return a.cost < b.cost; });
+  std::vector<Fit> kept;
+  for (Fit& f : fits) {
+    if (!std::isfinite(f.cost)) break;
+    bool alike = false;
+    for (const Fit& k : kept) alike |= sameFit(f, k, guesses, done);
+    if (!alike) kept.push_back(std::move(f));
+    if (static_cast<int>(kept.size()) == kBeam) break;
+  }
+  return kept;
+}
+
+}  // namespace
+
+std::vector<double> startOffsets(const RobotModel& robot, int j) {
+  const double lo = robot.lowerLimits()[j], hi = robot.upperLimits()[j];
+  const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type != JointType::kPrismatic;
+  std::vector<double> out;
+  if (!std::isfinite(lo) || !std::isfinite(hi)) {
+    if (!revolute) return {0.0};
+    for (int i = 0; i < 8; ++i) out.push_back(-M_PI + (i + 0.5) * M_PI / 4);
+    return out;
+  }
+  const double width = hi - lo, centre = 0.5 * (lo + hi);
+  if (revolute && width >= 2 * M_PI) {
+    for (int i = 0; i < 8; ++i) out.push_back(centre + (i - 3.5) * M_PI / 4);
+    return out;
+  }
+  for (int i = 0; i < 8; ++i) out.push_back(lo + (i + 0.5) * width / 8);
+  return out;
+}
+
+std::optional<Candidate> treeOrderMaps(const MeasurementModel& model, const Observations& sub,
+                                       const RobustLoss& loss,
+                                       const std::vector<PotGuess>& guesses,
+                                       const SensorParameters& seed, int threads) {
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  if (sensors.markers.empty()) return std::nullopt;
+  const JointSources sources = findJointSources(robot, sensors);
+  std::vector<int> guess_of(robot.dof(), -1);
+  for (size_t i = 0; i < guesses.size(); ++i)
+    if (sources.sensor[guesses[i].column] == guesses[i].sensor)
+      guess_of[guesses[i].column] = static_cast<int>(i);
+  if (std::count(guess_of.begin(), guess_of.end(), -1) > 0) return std::nullopt;
+  const Observations frames = usableSubsample(sub, sources);
+  if (frames.num_frames < kMinFrames) return std::nullopt;
+
+  Fit first;
+  first.p.theta = seed;
+  first.p.theta.joint_origin.clear();
+  first.p.inverse.resize(sensors.joint_sensors.size());
+  for (const PotGuess& g : guesses) first.p.inverse[g.sensor] = toInverse(g, g.map);
+  std::vector<Fit> beam = {first};
+  std::vector<bool> done(guesses.size(), false), searched(sensors.joint_sensors.size(), false);
+  for (const Stage& stage : planStages(model, guess_of)) {
+    for (int i : stage.guesses) done[i] = true, searched[guesses[i].sensor] = true;
+    StageFit fit(robot, sources, stageSensors(sensors, sources, stage.in_fit, searched), frames,
+                 loss, threads);
+    // Each of the stage's guesses in turn (one, unless joints above it saw
+    // no marker of their own), every start from every fit of the beam.
+    for (int i : stage.guesses) {
+      std::vector<Fit> fits;
+      for (const Fit& from : beam)
+        for (const PotMap& start : startMaps(robot, guesses[i])) {
+          ClassicalParameters p = from.p;
+          p.inverse[guesses[i].sensor] = toInverse(guesses[i], start);
+          fits.push_back(fit.refine(std::move(p)));
+        }
+      std::vector<Fit> kept = bestDistinct(std::move(fits), guesses, done);
+      if (kept.empty()) return std::nullopt;
+      beam = std::move(kept);
+    }
+  }
+  Candidate out;
+  for (const PotGuess& g : guesses) out.maps.push_back(toPotMap(g, beam.front().p.inverse[g.sensor]));
+  return out;
+}
+
+}  // namespace stac

@@ -1,0 +1,53 @@
+// Biases known only modulo a turn (see turn_ambiguity.hpp).
+#include "methods/turn_ambiguity.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "solve/q_phase.hpp"
+
+namespace stac {
+namespace {
+
+// Whether the motion [qmin, qmax] also fits in [lo, hi] a whole number of
+// turns away.
+bool fitsAnotherTurn(double qmin, double qmax, double lo, double hi) {
+  for (int k : {-2, -1, 1, 2})
+    if (qmin + 2 * M_PI * k >= lo && qmax + 2 * M_PI * k <= hi) return true;
+  return false;
+}
+
+}  // namespace
+
+std::vector<UnidentifiableDirection> turnAmbiguities(const MeasurementModel& model,
+                                                     const SensorParameters& theta,
+                                                     const RowMatrix& q) {
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  std::vector<UnidentifiableDirection> out;
+  if (q.rows() == 0) return out;
+  // The limits the q-phase keeps the angles in.
+  Eigen::VectorXd lower, upper;
+  widenedLimits(robot, &lower, &upper);
+  for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
+    const JointSensorConfig& sc = sensors.joint_sensors[s];
+    const MovableJoint& mj = robot.movableJoints()[sc.joint];
+    if (sc.fixed.bias || mj.is_mimic || mj.type != JointType::kRevolute) continue;
+    const int j = mj.q_index;
+    if (!std::isfinite(lower[j]) || !std::isfinite(upper[j])) continue;
+    const double qmin = q.col(j).minCoeff(), qmax = q.col(j).maxCoeff();
+    if (!std::isfinite(qmin) || !std::isfinite(qmax) ||
+        !fitsAnotherTurn(qmin, qmax, lower[j], upper[j]))
+      continue;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%.4g", 2 * M_PI * std::abs(theta.joint_sensor[s].gain));
+    out.push_back({{"joint_sensors." + sc.name + ".bias"},
+                   robot.qName(j) + "'s limits span more than a turn and the log's motion " +
+                       "would fit a whole turn away too, so " + sc.name + "'s bias is known only modulo a turn (2π·gain = " + buf +
+                       "); fix the bias, or log a pose near a limit"});
+  }
+  return out;
+}
+
+}  // namespace stac

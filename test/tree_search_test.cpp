@@ -1,0 +1,185 @@
+// The tree-order search of the pots' maps (src/methods/tree_search.hpp) and
+// the biases known only modulo a turn (src/methods/turn_ambiguity.hpp), on
+// ur5 (its joints' limits span two turns each) moved over 20-40% of each
+// joint's range, off-centre: the wide basin's sweeps, which assume swings
+// about each range's middle, end in mirror images there.
+#include "methods/tree_search.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "methods/turn_ambiguity.hpp"
+#include "stac/calibrate.hpp"
+#include "stac/sensors_file.hpp"
+#include "stac/simulate.hpp"
+#include "support/arm_files.hpp"
+#include "support/external_sensors.hpp"
+#include "support/test_util.hpp"
+
+namespace stac {
+namespace {
+
+RobotModel ur5() {
+  return RobotModel::fromFile(std::string(STAC_SOURCE_DIR) + "/test/fixtures/ur5.urdf");
+}
+
+double wrap(double a) { return a - 2 * M_PI * std::round(a / (2 * M_PI)); }
+
+// Each joint squeezed into a random 20-40% of its range, off-centre.
+RowMatrix partialSwings(const RobotModel& robot, RowMatrix q, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int j = 0; j < robot.dof(); ++j) {
+    const double lo = robot.lowerLimits()[j], hi = robot.upperLimits()[j];
+    const double width = (0.2 + 0.2 * u(rng)) * (hi - lo);
+    const double start = lo + u(rng) * (hi - lo - width);
+    const double qmin = q.col(j).minCoeff(), qmax = q.col(j).maxCoeff();
+    q.col(j) = ((q.col(j).array() - qmin) * (width / (qmax - qmin)) + start).matrix();
+  }
+  return q;
+}
+
+struct Ur5Partial {
+  explicit Ur5Partial(int seed) : robot(ur5()) {
+    std::mt19937_64 rng(seed);
+    file = parseSensorsYaml(test::inferableTruthYaml(robot, true, rng), "ur5 sensors", robot);
+    const MeasurementModel model(robot, file.sensors);
+    q = partialSwings(robot, simulateMotion(robot, 300, 100.0, rng), rng);
+    SimulationOptions so;
+    so.frames = 300;
+    log = simulateLog(model, file.theta, q, so, rng).log;
+  }
+  // The paper's seeding: gains 1, biases 0, free markers at their link's
+  // origin, the mocap frame identity.
+  SensorParameters paperSeed() const {
+    SensorParameters seed = file.theta;
+    seed.mocap = MocapFrame();
+    for (size_t m = 0; m < file.sensors.markers.size(); ++m)
+      if (!file.sensors.markers[m].fixed) seed.marker_position[m].setZero();
+    for (GainBias& gb : seed.joint_sensor) gb = {1.0, 0.0};
+    return seed;
+  }
+  RobotModel robot;
+  SensorsFile file;
+  RowMatrix q;
+  Log log;
+};
+
+TEST(TreeSearch, StartOffsetsCoverATurnOrTheRange) {
+  const RobotModel robot = ur5();  // ±2π: one turn about the middle
+  const std::vector<double> turn = startOffsets(robot, 0);
+  ASSERT_EQ(turn.size(), 8u);
+  EXPECT_NEAR(turn.back() - turn.front(), 7 * M_PI / 4, 1e-12);
+  EXPECT_NEAR(turn.front() + turn.back(), 0.0, 1e-12);
+  const RobotModel arm = RobotModel::fromString(test::kArmUrdf, "arm4");
+  const std::vector<double> range = startOffsets(arm, 0);
+  ASSERT_EQ(range.size(), 8u);
+  const double lo = arm.lowerLimits()[0], hi = arm.upperLimits()[0];
+  ASSERT_LT(hi - lo, 2 * M_PI);
+  for (double m : range) EXPECT_TRUE(m > lo && m < hi) << m;
+}
+
+// The maps found invert the true pots (sign, scale, and offset modulo a
+// turn), where the guessed maps (swings about the middle) are far off.
+TEST(TreeSearch, FindsTheMapsOfOffCentrePartialSwings) {
+  const Ur5Partial u(3);
+  const MeasurementModel model(u.robot, u.file.sensors);
+  const Observations obs = bindLog(u.log, u.file.sensors, "sim", 1.0);
+  const Observations sub = selectFrames(obs, spreadFrames(obs.num_frames, 150));
+  const SensorParameters seed = u.paperSeed();
+  const std::vector<PotGuess> guesses =
+      makePotGuesses(u.robot, u.file.sensors, seed, sub, false);
+  ASSERT_EQ(static_cast<int>(guesses.size()), u.robot.dof());
+  const auto found = treeOrderMaps(model, sub, RobustLoss(), guesses, seed, 2);
+  ASSERT_TRUE(found.has_value());
+  double worst_guess_offset = 0;
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const GainBias& gb = u.file.theta.joint_sensor[guesses[i].sensor];
+    const double alpha = 1.0 / gb.gain, mid = (guesses[i].pivot - gb.bias) / gb.gain;
+    EXPECT_NEAR(found->maps[i].alpha / alpha, 1.0, 0.1) << "joint " << i;
+    EXPECT_NEAR(wrap(found->maps[i].mid - mid), 0.0, 0.1) << "joint " << i;
+    worst_guess_offset = std::max(worst_guess_offset, std::abs(wrap(guesses[i].map.mid - mid)));
+  }
+  EXPECT_GT(worst_guess_offset, 0.5);  // the sweeps' start is far off
+}
+
+TEST(TreeSearch, NotForAJointWithoutAPotOfItsOwn) {
+  const Ur5Partial u(3);
+  SensorSet sensors = u.file.sensors;
+  SensorParameters seed = u.paperSeed();
+  sensors.ignore_columns.push_back(sensors.joint_sensors.back().name);
+  sensors.joint_sensors.pop_back();  // the last joint has no pot
+  seed.joint_sensor.pop_back();
+  const MeasurementModel model(u.robot, sensors);
+  const Observations obs = bindLog(u.log, sensors, "sim", 1.0);
+  const std::vector<PotGuess> guesses = makePotGuesses(u.robot, sensors, seed, obs, false);
+  EXPECT_FALSE(treeOrderMaps(model, obs, RobustLoss(), guesses, seed, 2).has_value());
+}
+
+// ---- Turns ----
+
+TEST(TurnAmbiguity, ListedWhenTheMotionFitsATurnAway) {
+  const Ur5Partial u(3);
+  const MeasurementModel model(u.robot, u.file.sensors);
+  RowMatrix q = RowMatrix::Zero(2, u.robot.dof());
+  q.row(0).setConstant(0.5);
+  q.row(1).setConstant(1.5);  // [0.5, 1.5] fits one turn lower too
+  q(0, 0) = -6.0;  // joint 0: [-6, 1.5] fits in ±2π (widened 5%) only where it is
+  const std::vector<UnidentifiableDirection> listed = turnAmbiguities(model, u.file.theta, q);
+  // A motion 1 rad wide fits a turn away where the widened limits span a
+  // turn and a radian (ur5's elbow spans one turn only).
+  std::vector<std::string> expected;
+  for (int j = 1; j < u.robot.dof(); ++j)
+    if (1.1 * (u.robot.upperLimits()[j] - u.robot.lowerLimits()[j]) >= 2 * M_PI + 1.0)
+      expected.push_back("joint_sensors." + u.file.sensors.joint_sensors[j].name + ".bias");
+  ASSERT_GE(expected.size(), 3u);
+  ASSERT_EQ(listed.size(), expected.size());
+  for (size_t k = 0; k < listed.size(); ++k) {
+    EXPECT_EQ(listed[k].parameters[0], expected[k]);
+    EXPECT_NE(listed[k].reason.find("modulo a turn"), std::string::npos);
+  }
+  EXPECT_NE(listed[0].reason.find(u.robot.qName(1)), std::string::npos);
+}
+
+TEST(TurnAmbiguity, NotForAHeldBiasOrLimitsWithinATurn) {
+  Ur5Partial u(3);
+  u.file.sensors.joint_sensors[2].fixed.bias = true;
+  const MeasurementModel model(u.robot, u.file.sensors);
+  RowMatrix q = RowMatrix::Zero(1, u.robot.dof());
+  for (const UnidentifiableDirection& d : turnAmbiguities(model, u.file.theta, q))
+    EXPECT_NE(d.parameters[0], "joint_sensors." + u.file.sensors.joint_sensors[2].name + ".bias");
+  const RobotModel arm = RobotModel::fromString(test::kArmUrdf, "arm4");
+  const SensorsFile f = parseSensorsYaml(test::kArmTruth, "arm4", arm);
+  const MeasurementModel arm_model(arm, f.sensors);
+  EXPECT_TRUE(turnAmbiguities(arm_model, f.theta, RowMatrix::Zero(3, arm.dof())).empty());
+}
+
+// The whole calibration from the paper's seeding reaches the truth, up to
+// the turns it reports.
+TEST(TreeSearch, CalibrationOfPartialSwingsReachesTheTruthModuloReportedTurns) {
+  const Ur5Partial u(5);
+  const Observations obs = bindLog(u.log, u.file.sensors, "sim", 1.0);
+  CalibrationOptions o;
+  o.threads = 2;
+  const CalibrationResult r = calibrate(u.robot, u.file.sensors, u.paperSeed(), obs, o);
+  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
+  for (size_t s = 0; s < u.file.sensors.joint_sensors.size(); ++s) {
+    const GainBias& truth = u.file.theta.joint_sensor[s];
+    const GainBias& got = r.theta.joint_sensor[s];
+    EXPECT_NEAR(got.gain, truth.gain, 5 * r.std.joint_sensor[s].gain + 1e-3) << s;
+    bool modulo_turn = false;
+    for (const UnidentifiableDirection& d : r.summary.unidentifiable)
+      modulo_turn |= d.parameters[0] == "joint_sensors." + u.file.sensors.joint_sensors[s].name +
+                                            ".bias";
+    double e = got.bias - truth.bias;
+    const double turn = 2 * M_PI * std::abs(truth.gain);
+    if (modulo_turn) e -= turn * std::round(e / turn);
+    EXPECT_NEAR(e, 0.0, 5 * r.std.joint_sensor[s].bias + 1e-3) << s;
+  }
+}
+
+}  // namespace
+}  // namespace stac
