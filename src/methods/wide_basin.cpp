@@ -24,6 +24,12 @@ constexpr double kCoverageScales[] = {1.0, 0.5, 0.25, 0.125};
 // guessed maps' scales are rough, so the markers lead q and the pots'
 // θ-phase fits gains to marker-driven angles rather than to themselves.
 constexpr double kInitPotWeight = 0.01;
+// The tree-order restart: only where a sensor's median error is above this
+// many times its noise's (mirror images fit 5-20x; a right estimate not yet
+// converged can fit 2-3x), and its estimate replaces the first below this
+// share of the first's cost.
+constexpr double kRestartMisfit = 4.0;
+constexpr double kClearlyBetter = 0.8;
 // Frames of the candidate search and of the coupled re-check.
 constexpr int kSearchFrames = 150;
 
@@ -32,6 +38,13 @@ bool hasFreeMarkerGroup(const SensorSet& sensors) {
          (!sensors.mocap_frame_fixed.all() ||
           std::any_of(sensors.markers.begin(), sensors.markers.end(),
                       [](const MarkerConfig& m) { return !m.fixed; }));
+}
+
+// Some marker or part of the mocap frame held (the gauge removed).
+bool gaugeHeld(const SensorSet& sensors) {
+  return sensors.mocap_frame_fixed.any() ||
+         std::any_of(sensors.markers.begin(), sensors.markers.end(),
+                     [](const MarkerConfig& m) { return m.fixed; });
 }
 
 // The search scores by the markers alone.
@@ -43,18 +56,19 @@ FrameOptions markersOnly() {
 
 }  // namespace
 
-// Misfit: a median residual over the frames more than twice what Gaussian
-// noise of the sensor's σ gives (statistics.hpp). Medians, so that gross
+// Misfit: a median residual over the frames more than `factor` times what
+// Gaussian noise of the sensor's σ gives (statistics.hpp). Medians, so that gross
 // outliers do not count: a sign chosen wrong shows in every frame. Markers
 // and pots only (the tendons are not initialised yet).
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
-                       const NoiseModel& noise, const Observations& obs, const RowMatrix& q) {
+                       const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
+                       double factor) {
   const auto errors = medianErrors(model, theta, obs, q, 1);
   for (SensorGroup g : {SensorGroup::kMarker, SensorGroup::kJoint}) {
     const int gi = static_cast<int>(g);
     for (size_t i = 0; i < errors[gi].size(); ++i)
       if (errors[gi][i].count > 0 &&
-          errors[gi][i].median > 2.0 * kMedianErrorInSigma[gi] * noise.sigma(g, static_cast<int>(i)))
+          errors[gi][i].median > factor * kMedianErrorInSigma[gi] * noise.sigma(g, static_cast<int>(i)))
         return true;
   }
   return false;
@@ -311,12 +325,17 @@ RowMatrix WideBasin::subsampleAngles(const RowMatrix& q) const {
   return out;
 }
 
-// The markers and pots (the tendons are not initialised yet) at est.
-double WideBasin::markerPotCost(Estimate* est) const {
-  FrameOptions eval;
-  eval.group_weight[1] = potWeight();
-  eval.group_weight[2] = 0.0;
-  return totalCost(model_, est->theta, noise_, loss_, obs_, eval, threads_, ws_, &est->state);
+// The whole cost at est, the tendons (not initialised yet) fitted to its q
+// first: two estimates whose markers and pots fit alike can differ there.
+double WideBasin::fullCost(const Estimate& est) const {
+  SensorParameters theta = est.theta;
+  QState state = est.state;
+  ThetaPhaseOptions tendons;
+  tendons.threads = threads_;
+  tendons.update[0] = tendons.update[1] = false;
+  if (!model_.sensors().tendon_sensors.empty())
+    thetaPhase(model_, noise_, loss_, obs_, state, tendons, ws_, &theta);
+  return totalCost(model_, theta, noise_, loss_, obs_, FrameOptions(), threads_, ws_, &state);
 }
 
 SensorParameters WideBasin::run(QState* state) const {
@@ -325,13 +344,17 @@ SensorParameters WideBasin::run(QState* state) const {
   Estimate est = estimateFrom(guesses_.empty() ? nullptr : &searched, std::move(*state));
   // A marker or pot still far off its noise: the sweeps' start (swings
   // about each range's middle) may have been wrong. The tree-order search
-  // assumes nothing about the swings; its estimate replaces the first if it
-  // fits better.
-  if (marker_group_free_ && !guesses_.empty() &&
-      someSensorMisfits(model_, est.theta, noise_, sub_, subsampleAngles(est.state.q))) {
+  // assumes nothing about the swings; its estimate replaces the first if
+  // every sensor then fits clearly better (a mirror image that fits about
+  // as well is no reason to leave the sweeps' answer). Only where a marker
+  // or the mocap frame is held: with every part free, mirror images of the
+  // whole fit can be equally good, and a fit cannot choose between them.
+  if (marker_group_free_ && !guesses_.empty() && gaugeHeld(model_.sensors()) &&
+      someSensorMisfits(model_, est.theta, noise_, sub_, subsampleAngles(est.state.q),
+                        kRestartMisfit)) {
     if (const auto tree = treeOrderMaps(model_, sub_, loss_, guesses_, seed_, threads_)) {
       Estimate alt = estimateFrom(&*tree, neutral);
-      if (markerPotCost(&alt) < markerPotCost(&est)) est = std::move(alt);
+      if (fullCost(alt) < kClearlyBetter * fullCost(est)) est = std::move(alt);
     }
   }
   ThetaPhaseOptions pots;

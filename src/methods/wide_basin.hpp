@@ -111,10 +111,11 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
 // predictions stay the same.
 void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q);
 // Whether some marker or pot fits clearly worse than its noise: its median
-// residual over the frames of obs more than twice what Gaussian noise of
-// its σ gives.
+// residual over the frames of obs more than `factor` times what Gaussian
+// noise of its σ gives.
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
-                       const NoiseModel& noise, const Observations& obs, const RowMatrix& q);
+                       const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
+                       double factor = 2.0);
 
 // A candidate's score and the subsample state it left.
 struct ScoredCandidate {
@@ -197,8 +198,8 @@ class WideBasin {
   double refinedCost(SensorParameters theta, QState state) const;
   // Rows sub_frames_ of q (every frame of obs).
   RowMatrix subsampleAngles(const RowMatrix& q) const;
-  // The cost of the markers and pots over obs at est (fills est's costs).
-  double markerPotCost(Estimate* est) const;
+  // The cost of every sensor over obs at est, the tendons fitted first.
+  double fullCost(const Estimate& est) const;
   // The pots' group weight once they carry their guessed maps.
   double potWeight() const { return guesses_.empty() ? 0.0 : 1.0; }
 
