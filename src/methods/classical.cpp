@@ -66,6 +66,31 @@ bool anglesFromSensors(const RobotModel& robot, const SensorSet& sensors,
   return true;
 }
 
+std::vector<int> framesWithEveryDefiningReading(const Observations& obs,
+                                                const JointSources& sources) {
+  std::vector<int> usable;
+  const int J = static_cast<int>(sources.defining.size());
+  for (int t = 0; t < obs.num_frames; ++t) {
+    bool ok = true;
+    for (int j = 0; j < J && ok; ++j) ok = !(sources.defining[j] && std::isnan(obs.joint(t, j)));
+    if (ok) usable.push_back(t);
+  }
+  return usable;
+}
+
+RowMatrix anglesOfEveryFrame(const RobotModel& robot, const SensorSet& sensors,
+                             const JointSources& sources, const ClassicalParameters& p,
+                             const Observations& obs) {
+  RowMatrix q(obs.num_frames, robot.dof());
+  for (int t = 0; t < obs.num_frames; ++t)
+    for (int j = 0; j < robot.dof(); ++j) {
+      const int s = sources.sensor[j];
+      const MovableJoint& mj = robot.movableJoints()[sensors.joint_sensors[s].joint];
+      q(t, j) = (p.inverse[s].a * obs.joint(t, s) + p.inverse[s].c - mj.offset) / mj.multiplier;
+    }
+  return q;
+}
+
 bool tiedOffset(const FixedGainBias& fixed) { return fixed.bias && !fixed.gain; }
 
 bool classicalFrame(const MeasurementModel& model, const JointSources& sources,
@@ -127,13 +152,7 @@ std::string joinNames(const std::vector<std::string>& v) {
 
 // Frames where every defining reading is present; the rest are skipped.
 std::vector<int> usableFrames(const Observations& obs, const JointSources& sources) {
-  std::vector<int> usable;
-  const int J = static_cast<int>(sources.defining.size());
-  for (int t = 0; t < obs.num_frames; ++t) {
-    bool ok = true;
-    for (int j = 0; j < J && ok; ++j) ok = !(sources.defining[j] && std::isnan(obs.joint(t, j)));
-    if (ok) usable.push_back(t);
-  }
+  std::vector<int> usable = framesWithEveryDefiningReading(obs, sources);
   if (usable.empty()) throw std::invalid_argument("no frame has every joint sensor's reading");
   return usable;
 }
@@ -197,19 +216,6 @@ UncertaintyResult toGainBias(const MeasurementModel& model, const JointSources& 
   return uncertaintyFromInformation(model, *theta, info);
 }
 
-// q from the sensors for every frame (NaN where a reading is missing).
-RowMatrix anglesOfEveryFrame(const RobotModel& robot, const SensorSet& sensors,
-                             const JointSources& sources, const ClassicalParameters& p,
-                             const Observations& obs) {
-  RowMatrix q(obs.num_frames, robot.dof());
-  for (int t = 0; t < obs.num_frames; ++t)
-    for (int j = 0; j < robot.dof(); ++j) {
-      const int s = sources.sensor[j];
-      const MovableJoint& mj = robot.movableJoints()[sensors.joint_sensors[s].joint];
-      q(t, j) = (p.inverse[s].a * obs.joint(t, s) + p.inverse[s].c - mj.offset) / mj.multiplier;
-    }
-  return q;
-}
 
 }  // namespace
 

@@ -71,6 +71,15 @@ bool anglesFromSensors(const RobotModel& robot, const SensorSet& sensors,
                        const JointSources& sources, const std::vector<InverseMap>& inverse,
                        const double* joint_readings, Eigen::VectorXd* q);
 
+// The frames of obs with every defining sensor's reading.
+std::vector<int> framesWithEveryDefiningReading(const Observations& obs,
+                                                const JointSources& sources);
+// q from the defining sensors' maps for every frame of obs (NaN where a
+// reading is missing).
+RowMatrix anglesOfEveryFrame(const RobotModel& robot, const SensorSet& sensors,
+                             const JointSources& sources, const ClassicalParameters& p,
+                             const Observations& obs);
+
 // One frame of eq. 29: whitened (and robustified) residuals of the markers,
 // tendon sensors and non-defining joint sensors at q(p, a, c), and (J not
 // null) their Jacobian w.r.t. the regression's parameters in MeasurementModel's

@@ -167,13 +167,7 @@ class StageFit {
   // Levenberg-Marquardt.
   Fit refine(ClassicalParameters p) {
     QState angles;
-    angles.q = RowMatrix(frames_.num_frames, stage_.dof());
-    Eigen::VectorXd q;
-    for (int t = 0; t < frames_.num_frames; ++t) {
-      anglesFromSensors(stage_.robot(), stage_.sensors(), sources_, p.inverse,
-                        frameReadings(frames_, t).joint, &q);
-      angles.q.row(t) = q.transpose();
-    }
+    angles.q = anglesOfEveryFrame(stage_.robot(), stage_.sensors(), sources_, p, frames_);
     initialiseMarkerGroup(stage_, frames_, angles, 2, threads_, &ws_, &p.theta);
     bool converged = false;
     reg_.solve(noise_, noise_, options_, Clock::now(), 0, &p, &converged);
@@ -197,13 +191,7 @@ class StageFit {
 
 // The frames of `sub` with every defining reading, at most kSearchFrames.
 Observations usableSubsample(const Observations& sub, const JointSources& sources) {
-  std::vector<int> usable;
-  for (int t = 0; t < sub.num_frames; ++t) {
-    bool ok = true;
-    for (size_t j = 0; j < sources.defining.size() && ok; ++j)
-      ok = !(sources.defining[j] && std::isnan(sub.joint(t, static_cast<int>(j))));
-    if (ok) usable.push_back(t);
-  }
+  const std::vector<int> usable = framesWithEveryDefiningReading(sub, sources);
   std::vector<int> picked;
   for (int i : spreadFrames(static_cast<int>(usable.size()), kSearchFrames))
     picked.push_back(usable[i]);
