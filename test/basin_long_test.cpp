@@ -242,8 +242,10 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
   if (only && std::string(only) != robot.name + "/" + variantName(v)) return tally;
   const MeasurementModel model(robot.model, robot.truth.sensors);
   std::mt19937_64 rng(2024);
+  const char* pick = std::getenv("STAC_BASIN_PICK");  // one truth, by its index
   for (int k = 0; k < truths; ++k) {
     const SensorParameters truth = randomTruth(robot.truth.sensors, robot.truth.theta, rng);
+    if (pick && std::atoi(pick) != k) continue;
     const Simulation sim = simulateVariant(robot, model, truth, v, frames, 1000 + k);
     const Observations obs = bindLog(sim.data.log, robot.truth.sensors, "truth", 1.0);
     CalibrationOptions o;
@@ -273,7 +275,23 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
                   r.summary.suspect() ? (", verdict suspect: " + r.summary.verdict[0]).c_str()
                   : suspect           ? ", reported unidentifiable"
                                       : ", SILENT: verdict ok");
-    else if (suspect)
+    if (!reached && std::getenv("STAC_BASIN_DIAG")) {
+      // Is the miss a worse minimum, or as good a fit as the truth's own?
+      const CalibrationResult rt = calibrate(robot.model, robot.truth.sensors, truth, obs, o);
+      std::printf("    diag: cost %.6g (from truth %.6g), rms", r.summary.final_cost,
+                  rt.summary.final_cost);
+      for (int g = 0; g < kNumSensorGroups; ++g)
+        std::printf(" %.4g/%.4g", r.summary.after_rms[g], rt.summary.after_rms[g]);
+      std::printf(", iterations %d/%d\n", r.summary.iterations, rt.summary.iterations);
+      const SensorSet& ss = robot.truth.sensors;
+      for (size_t m = 0; m < ss.markers.size(); ++m)
+        std::printf("    %s %.3g/%.3g\n", ss.markers[m].name.c_str(), r.marker_residual[m].rms / ss.markers[m].sigma, rt.marker_residual[m].rms / ss.markers[m].sigma);
+      for (size_t m = 0; m < ss.joint_sensors.size(); ++m)
+        std::printf("    %s %.3g/%.3g  gain %.4g/%.4g bias %.4g/%.4g\n", ss.joint_sensors[m].name.c_str(), r.joint_residual[m].rms / ss.joint_sensors[m].sigma, rt.joint_residual[m].rms / ss.joint_sensors[m].sigma, r.theta.joint_sensor[m].gain, truth.joint_sensor[m].gain, r.theta.joint_sensor[m].bias, truth.joint_sensor[m].bias);
+      for (size_t m = 0; m < ss.tendon_sensors.size(); ++m)
+        std::printf("    %s %.3g/%.3g\n", ss.tendon_sensors[m].name.c_str(), r.tendon_residual[m].rms / ss.tendon_sensors[m].sigma, rt.tendon_residual[m].rms / ss.tendon_sensors[m].sigma);
+    }
+    if (reached && suspect)
       std::printf("  %s/%s truth %d: reached but flagged (%s)\n", robot.name.c_str(),
                   variantName(v), k,
                   r.summary.suspect() ? r.summary.verdict[0].c_str()

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <random>
@@ -399,6 +400,68 @@ TEST(WideBasinAlternation, RecheckRightsASignTheMarkersContradict) {
   for (int j = 0; j < 4; ++j)
     EXPECT_NEAR(est.theta.joint_sensor[j].gain, s.p.truth.joint_sensor[j].gain, 0.03) << j;
   EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 0.03);
+}
+
+// ---- Jumps between minima after convergence ----
+
+TEST(MinimumMoves, HalfTurnKeepsThePotsPredictions) {
+  ArmSetup s(arm(100));
+  const WideBasin wb = s.basin(s.p.seed);
+  SensorParameters theta = s.p.truth;
+  RowMatrix q = s.p.q_true;
+  const PotGuess& g = wb.guesses()[2];
+  halfTurn(s.p.robot, g, &theta, &q);
+  // Toward the middle of j3's limits, by exactly half a turn.
+  const double mid = 0.5 * (s.p.robot.lowerLimits()[g.column] + s.p.robot.upperLimits()[g.column]);
+  const double shift = q(0, g.column) - s.p.q_true(0, g.column);
+  EXPECT_NEAR(std::abs(shift), M_PI, 1e-12);
+  EXPECT_LT(std::abs(q.col(g.column).mean() - mid),
+            std::abs(s.p.q_true.col(g.column).mean() - mid) + M_PI);
+  const GainBias& before = s.p.truth.joint_sensor[g.sensor];
+  const GainBias& after = theta.joint_sensor[g.sensor];
+  for (int t = 0; t < q.rows(); ++t)
+    EXPECT_NEAR(after.gain * q(t, g.column) + after.bias,
+                before.gain * s.p.q_true(t, g.column) + before.bias, 1e-12);
+}
+
+TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
+  ArmSetup s(arm(100));
+  const WideBasin wb = s.basin(s.p.seed);
+  // The arm: 4 guesses, 3 of them below another: 4 flips and 4 half turns,
+  // and per pair a double flip, a wrist flip and a double half turn.
+  const std::vector<MinimumMove> moves = minimumMoves(wb.guesses(), wb.moves());
+  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u);
+  std::vector<PotGuess> held = wb.guesses();
+  held[2].bias_held = true;
+  for (const MinimumMove& m : minimumMoves(held, wb.moves()))
+    EXPECT_EQ(std::count(m.half_turn.begin(), m.half_turn.end(), 2), 0);
+  held[2].fixed = true;  // a held gain: no move touches the guess
+  for (const MinimumMove& m : minimumMoves(held, wb.moves())) {
+    EXPECT_EQ(std::count(m.flip.begin(), m.flip.end(), 2), 0);
+    EXPECT_EQ(std::count(m.half_turn.begin(), m.half_turn.end(), 2), 0);
+  }
+}
+
+// The arm's j3 half a turn off and j4 mirrored, the pots' maps along (the
+// arm4/partial miss of the basin test): every pot still fits, the markers
+// a little worse. The jump back is found; from the truth there is none.
+TEST(WideBasinAfterConvergence, JumpsBackFromAWristFlip) {
+  ArmSetup s(arm(300));
+  const WideBasin wb = s.basin(s.p.seed);
+  Estimate est;
+  est.theta = s.p.truth;
+  est.state.q = s.p.q_true;
+  EXPECT_FALSE(wb.jumpToBetterMinimum(&est));
+  const MinimumMove wrist_flip{{3}, {2}};
+  applyMove(s.p.robot, wb.guesses(), wrist_flip, &est.theta, &est.state.q);
+  ASSERT_NE(est.theta.joint_sensor[3].gain, s.p.truth.joint_sensor[3].gain);
+  const auto jump = wb.jumpToBetterMinimum(&est);
+  ASSERT_TRUE(jump);
+  for (int j = 0; j < 4; ++j) {
+    EXPECT_NEAR(est.theta.joint_sensor[j].gain, s.p.truth.joint_sensor[j].gain, 1e-9) << j;
+    EXPECT_NEAR(est.theta.joint_sensor[j].bias, s.p.truth.joint_sensor[j].bias, 1e-9) << j;
+  }
+  EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
 }
 
 // ---- The whole initialisation ----

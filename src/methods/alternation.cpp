@@ -270,15 +270,68 @@ Start startRun(const MethodInput& in, bool presolve, Workspaces* ws) {
   return start;
 }
 
+namespace {
+
+// A converged run is checked for a wrong minimum where some marker or pot's
+// median error is above this many times what its seed σ gives (a right one
+// fits at about 1; the wrist flips of the basin test's misses at 1.6-4).
+constexpr double kEscapeMisfit = 1.4;
+// Jumps to a better minimum at most.
+constexpr int kEscapes = 2;
+
+// The initialisation's searches can leave a minimum whose pots' maps are a
+// discrete jump from the right ones (a wrist flip, a sign) that fits a
+// little worse. From the converged state, where a sensor misfits, the jumps
+// (WideBasin::jumpToBetterMinimum) are tried; the alternation goes on from
+// a clearly better one, and its end is kept if it fits better at the σ the
+// run had (the adapted σ would hide the difference). Returns the loop's
+// outcome, iterations counted on from `loop`'s.
+LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s, Workspaces* ws,
+                               const std::function<void(int, const PassStats&)>& report) {
+  const Problem& problem = in.problem;
+  for (int round = 0; round < kEscapes; ++round) {
+    if (!someSensorMisfits(problem.model, s->theta, problem.seed_noise, problem.obs, s->q.q,
+                           kEscapeMisfit))
+      break;
+    Estimate est{s->theta, s->q};
+    {
+      const WideBasin basin(problem.model, problem.obs, s->noise, problem.loss, problem.threads,
+                            ws, s->theta, in.options.stac.coupled_steps);
+      if (!basin.jumpToBetterMinimum(&est)) break;
+    }
+    State before = *s;
+    s->theta = std::move(est.theta);
+    s->q = std::move(est.state);
+    const int done = loop.iterations;
+    LoopOutcome again = stacIterations(
+        problem, in.options, in.options.stac.coupled_steps,
+        costPass(problem, s->theta, s->noise, s->q.q, false, ws), s, ws,
+        [&](int it, const PassStats& st) { if (report) report(done + it, st); });
+    const double was = costPass(problem, before.theta, before.noise, before.q.q, false, ws).cost;
+    const double now = costPass(problem, s->theta, before.noise, s->q.q, false, ws).cost;
+    if (!(now < was)) {
+      *s = std::move(before);
+      break;
+    }
+    again.iterations += done;
+    loop = std::move(again);
+  }
+  return loop;
+}
+
+}  // namespace
+
 Outcome runStac(const MethodInput& in) {
   const Problem& problem = in.problem;
   Workspaces ws = makeWorkspaces(problem.model, problem.threads);
   Start start = startRun(in, true, &ws);
   State& s = start.state;
-  const LoopOutcome loop = stacIterations(
-      problem, in.options, start.coupled, start.st, &s, &ws, [&](int it, const PassStats& st) {
-        if (in.options.progress) in.options.progress(makeReport(it, st, in.start, "stac", &s.theta));
-      });
+  const auto report = [&](int it, const PassStats& st) {
+    if (in.options.progress) in.options.progress(makeReport(it, st, in.start, "stac", &s.theta));
+  };
+  LoopOutcome loop =
+      stacIterations(problem, in.options, start.coupled, start.st, &s, &ws, report);
+  loop = escapeWrongMinimum(in, std::move(loop), &s, &ws, report);
   Outcome out = finishRun(problem, &start, loop.st, &ws);
   out.iterations = loop.iterations;
   out.converged = loop.converged;

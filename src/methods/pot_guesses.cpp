@@ -177,4 +177,35 @@ void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
   gb.gain = -gb.gain;
 }
 
+// p = g q + b = g (q + s pi) + (b - g s pi).
+void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+  const double mid = 0.5 * (robot.lowerLimits()[g.column] + robot.upperLimits()[g.column]);
+  const double s = std::isfinite(mid) && q->col(g.column).mean() > mid ? -1.0 : 1.0;
+  q->col(g.column).array() += s * M_PI;
+  GainBias& gb = theta->joint_sensor[g.sensor];
+  gb.bias -= gb.gain * s * M_PI;
+}
+
+std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
+                                      const std::vector<std::vector<int>>& sign_moves) {
+  std::vector<MinimumMove> moves;
+  auto turnable = [&](int i) { return !guesses[i].bias_held; };
+  for (const std::vector<int>& m : sign_moves) {
+    if (touchesFixed(guesses, m)) continue;
+    moves.push_back({m, {}});
+    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m});
+    if (m.size() == 2 && turnable(m[0])) {  // m[0] is above m[1]
+      moves.push_back({{m[1]}, {m[0]}});
+      if (turnable(m[1])) moves.push_back({{}, m});
+    }
+  }
+  return moves;
+}
+
+void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+               const MinimumMove& move, SensorParameters* theta, RowMatrix* q) {
+  for (int i : move.flip) flipSign(guesses[i], theta, q);
+  for (int i : move.half_turn) halfTurn(robot, guesses[i], theta, q);
+}
+
 }  // namespace stac

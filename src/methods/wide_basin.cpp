@@ -303,6 +303,22 @@ bool WideBasin::recheckSigns(Estimate* est) const {
   return flipped_any;
 }
 
+std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
+  QState sub;
+  sub.q = subsampleAngles(est->state.q);
+  double best = kBetterMinimum * refinedCost(est->theta, sub);
+  std::optional<MinimumMove> chosen;
+  for (const MinimumMove& move : minimumMoves(guesses_, moves_)) {
+    SensorParameters theta = est->theta;
+    QState moved = sub;
+    applyMove(model_.robot(), guesses_, move, &theta, &moved.q);
+    const double cost = refinedCost(std::move(theta), std::move(moved));
+    if (cost < best) best = cost, chosen = move;
+  }
+  if (chosen) applyMove(model_.robot(), guesses_, *chosen, &est->theta, &est->state.q);
+  return chosen;
+}
+
 // The pots' maps adopted, the marker group in closed form, then the
 // marker-led alternation and its sign re-check.
 Estimate WideBasin::estimateFrom(const Candidate* maps, QState state) const {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "stac/log.hpp"
@@ -23,6 +24,9 @@ namespace stac {
 
 // Frames used for initialising: at most this many, spread over the log.
 constexpr int kInitFrames = 1000;
+// A jump to another minimum is taken when its cost, after a few steps only,
+// is below this share of the converged one's: it can only fall further.
+constexpr double kBetterMinimum = 0.95;
 
 // Returns θ initialised from `theta` (the seed) on obs; state->q (one row per
 // frame of obs, neutral on entry) receives the initial joint angles.
@@ -110,6 +114,26 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
 // bias is held) and flips the sign of its pot's map so that the pot's
 // predictions stay the same.
 void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q);
+// Moves joint angle column `g.column` half a turn (toward the middle of the
+// joint's limits) and shifts its pot's bias so that the pot's predictions
+// stay the same.
+void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q);
+
+// A discrete jump between minima of the pots' maps: the guesses `flip`
+// mirrored (flipSign), the guesses `half_turn` moved half a turn.
+struct MinimumMove {
+  std::vector<int> flip, half_turn;
+};
+// The jumps a converged calibration is checked against: each sign move
+// (signMoves); each joint half a turn; each joint half a turn with the
+// guessed joint below it mirrored (the "wrist flip" of a serial chain: its
+// links then pass through the same places, so markers on or beyond them
+// barely tell the two apart); and both joints of a pair half a turn. None
+// that changes a held gain or bias.
+std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
+                                      const std::vector<std::vector<int>>& sign_moves);
+void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+               const MinimumMove& move, SensorParameters* theta, RowMatrix* q);
 // Whether some marker or pot fits clearly worse than its noise: its median
 // residual over the frames of obs more than `factor` times what Gaussian
 // noise of its σ gives.
@@ -192,6 +216,13 @@ class WideBasin {
   // The estimate from the pots' maps (none: no pot guessed) and q on entry:
   // every step above after the search.
   Estimate estimateFrom(const Candidate* maps, QState state) const;
+
+  // ---- After convergence ----
+  // Each of minimumMoves from est, refined by a few alternations and
+  // coupled steps on the subsample; the best, if its cost is below
+  // kBetterMinimum times est's (refined alike), is applied to every frame of
+  // est and returned. est is a converged calibration of obs.
+  std::optional<MinimumMove> jumpToBetterMinimum(Estimate* est) const;
 
  private:
   // The cost after a few alternations and coupled steps on the subsample.
