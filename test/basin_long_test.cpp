@@ -9,7 +9,10 @@
 // Huber loss, partial off-centre swings, ur5 with continuous joints, TALOS
 // from 2000 frames. Label "long": outside the default run; prints a table
 // row per robot and variant. STAC_BASIN_TRUTHS=N takes N truths instead of
-// 20 (a quicker look), STAC_BASIN_ONLY=robot/variant one row.
+// 20 (a quicker look), STAC_BASIN_ONLY=robot/variant one row,
+// STAC_BASIN_PICK=k truth k alone; STAC_BASIN_DIAG=1 calibrates each miss
+// again from its truth and prints both fits, per sensor (a wrong minimum
+// fits worse; a miss that fits as well is a std too small).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -73,15 +76,16 @@ SensorParameters paperSeed(const SensorSet& s, const SensorParameters& truth) {
   return seed;
 }
 
-// Converged to the truth: every estimated parameter within 5 of its reported
-// standard deviations (a wrong local minimum is off by tens or hundreds),
+// Converged to the truth: every estimated parameter within 4 of its reported
+// standard deviations, as the issue asks (a wrong local minimum is off by
+// tens or hundreds),
 // and nothing reported unidentifiable (the bundled seeds remove the gauges).
 // A continuous joint's bias is known modulo a turn times its gain, and so is
 // a bias the result itself reports known only modulo a turn (a joint whose
 // limits span more than a turn, moved over less: turn_ambiguity.hpp).
 bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParameters& truth,
                   const CalibrationResult& r, std::string* why) {
-  const double k = 5.0;
+  const double k = 4.0;
   auto off = [&](double error, double sd, const std::string& what) {
     if (std::abs(error) <= k * sd) return false;
     *why = what + ": " + std::to_string(error) + " off the truth (std " + std::to_string(sd) + ")";
@@ -275,6 +279,12 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
                   r.summary.suspect() ? (", verdict suspect: " + r.summary.verdict[0]).c_str()
                   : suspect           ? ", reported unidentifiable"
                                       : ", SILENT: verdict ok");
+    if (std::getenv("STAC_BASIN_DIAG") && (suspect || !reached)) {
+      std::printf("    sigma/seed");
+      for (int g = 0; g < kNumSensorGroups; ++g)
+        std::printf(" %.3g", r.summary.group_sigma[g] / r.summary.seed_group_sigma[g]);
+      std::printf(", iterations %d\n", r.summary.iterations);
+    }
     if (!reached && std::getenv("STAC_BASIN_DIAG")) {
       // Is the miss a worse minimum, or as good a fit as the truth's own?
       const CalibrationResult rt = calibrate(robot.model, robot.truth.sensors, truth, obs, o);
