@@ -84,9 +84,13 @@ SensorParameters paperSeed(const SensorSet& s, const SensorParameters& truth) {
 // a bias the result itself reports known only modulo a turn (a joint whose
 // limits span more than a turn, moved over less: turn_ambiguity.hpp).
 bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParameters& truth,
-                  const CalibrationResult& r, std::string* why) {
+                  const CalibrationResult& r, std::string* why,
+                  std::vector<double>* z = nullptr) {
   const double k = 4.0;
   auto off = [&](double error, double sd, const std::string& what) {
+    if (z && sd > 0 && std::isfinite(sd)) z->push_back(error / sd);
+    if (std::getenv("STAC_BASIN_DIAG") && std::abs(error) > 2.5 * sd)
+      std::printf("    z %.2f %s\n", error / sd, what.c_str());
     if (std::abs(error) <= k * sd) return false;
     *why = what + ": " + std::to_string(error) + " off the truth (std " + std::to_string(sd) + ")";
     return true;
@@ -246,6 +250,7 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
   if (only && std::string(only) != robot.name + "/" + variantName(v)) return tally;
   const MeasurementModel model(robot.model, robot.truth.sensors);
   std::mt19937_64 rng(2024);
+  double z2 = 0, zn = 0;  // the reached truths' squared errors in std, and their count
   const char* pick = std::getenv("STAC_BASIN_PICK");  // one truth, by its index
   for (int k = 0; k < truths; ++k) {
     const SensorParameters truth = randomTruth(robot.truth.sensors, robot.truth.theta, rng);
@@ -258,7 +263,12 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
     const CalibrationResult r = calibrate(robot.model, robot.truth.sensors,
                                           paperSeed(robot.truth.sensors, truth), obs, o);
     std::string why;
-    const bool reached = closeToTruth(robot.model, robot.truth.sensors, truth, r, &why);
+    std::vector<double> z;  // every parameter's error in its reported std
+    const bool reached = closeToTruth(robot.model, robot.truth.sensors, truth, r, &why, &z);
+    if (reached) {
+      for (double e : z) z2 += e * e;
+      zn += static_cast<double>(z.size());
+    }
     // A result that names what it could not determine is not a silent
     // answer either: its std there is infinite.
     // (A bias reported known modulo a turn is compared so by closeToTruth.)
@@ -307,9 +317,12 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
                   r.summary.suspect() ? r.summary.verdict[0].c_str()
                                       : r.summary.unidentifiable[0].reason.c_str());
   }
-  std::printf("basin %-12s %-9s reached %2d/%d  misses flagged %d, silent %d  false alarms %d\n",
+  // An honest std gives errors of RMS 1 std over the reached truths.
+  std::printf("basin %-12s %-9s reached %2d/%d  misses flagged %d, silent %d  false alarms %d"
+              "  (error RMS %.2f std)\n",
               robot.name.c_str(), variantName(v), tally.reached, tally.truths,
-              tally.flagged_misses, tally.silent_misses, tally.false_alarms);
+              tally.flagged_misses, tally.silent_misses, tally.false_alarms,
+              zn > 0 ? std::sqrt(z2 / zn) : 0.0);
   std::fflush(stdout);
   return tally;
 }

@@ -32,11 +32,13 @@ double adaptNoise(const Problem& problem, const PassStats& st, GroupScales* scal
                   NoiseModel* noise) {
   GroupResiduals residuals;
   const ThetaSpace& space = problem.model.thetaSpace();
+  const bool robust = problem.loss.enabled();  // tapered (noise_adaptation.hpp)
   for (int g = 0; g < kNumSensorGroups; ++g) {
-    residuals.wsse[g] = st.wsse[g];
+    residuals.wsse[g] = robust ? st.tapered_wsse[g] / scaleTaper(kReadingRows[g]).mean_share
+                               : st.wsse[g];
     residuals.dofs[g] =
         st.count[g] == 0 ? 0.0
-                         : st.wdims[g] - st.leverage[g] -
+                         : (robust ? st.tapered_rows[g] : st.wdims[g]) - st.leverage[g] -
                                space.freeInGroup(static_cast<SensorGroup>(g));
   }
   const double change = updateScales(residuals, true, scales);
@@ -284,12 +286,16 @@ constexpr int kEscapes = 2;
 // little worse. From the converged state, where a sensor misfits, the jumps
 // (WideBasin::jumpToBetterMinimum) are tried; the alternation goes on from
 // a clearly better one, and its end is kept if it fits better at the σ the
-// run had (the adapted σ would hide the difference). Returns the loop's
-// outcome, iterations counted on from `loop`'s.
+// run had (the adapted σ would hide the difference). Only from a converged
+// run, and within its iteration limit. Returns the loop's outcome,
+// iterations counted on from `loop`'s.
 LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s, Workspaces* ws,
                                const std::function<void(int, const PassStats&)>& report) {
   const Problem& problem = in.problem;
   for (int round = 0; round < kEscapes; ++round) {
+    // A minimum only (an unconverged run is reported so), and within the
+    // iterations the caller allowed.
+    if (!loop.converged || loop.iterations >= in.options.max_iterations) break;
     if (!someSensorMisfits(problem.model, s->theta, problem.seed_noise, problem.obs, s->q.q,
                            kEscapeMisfit))
       break;
@@ -303,8 +309,10 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
     s->theta = std::move(est.theta);
     s->q = std::move(est.state);
     const int done = loop.iterations;
+    CalibrationOptions rest = in.options;
+    rest.max_iterations -= done;
     LoopOutcome again = stacIterations(
-        problem, in.options, in.options.stac.coupled_steps,
+        problem, rest, in.options.stac.coupled_steps,
         costPass(problem, s->theta, s->noise, s->q.q, false, ws), s, ws,
         [&](int it, const PassStats& st) { if (report) report(done + it, st); });
     const double was = costPass(problem, before.theta, before.noise, before.q.q, false, ws).cost;

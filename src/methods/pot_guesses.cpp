@@ -169,8 +169,8 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
 
 // p = g q + b = (-g) (2c - q) + (b + 2 g c); about c = 0 where the bias is
 // held, so that it stays.
-void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
-  const double c = g.bias_held ? 0.0 : q->col(g.column).mean();
+void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q, bool about_zero) {
+  const double c = g.bias_held || about_zero ? 0.0 : q->col(g.column).mean();
   q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
   GainBias& gb = theta->joint_sensor[g.sensor];
   gb.bias += 2.0 * gb.gain * c;
@@ -190,6 +190,7 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves) {
   std::vector<MinimumMove> moves;
   auto turnable = [&](int i) { return !guesses[i].bias_held; };
+  std::vector<std::vector<int>> pairs;  // {above, below}
   for (const std::vector<int>& m : sign_moves) {
     if (touchesFixed(guesses, m)) continue;
     moves.push_back({m, {}});
@@ -198,13 +199,21 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
       moves.push_back({{m[1]}, {m[0]}});
       if (turnable(m[1])) moves.push_back({{}, m});
     }
+    if (m.size() == 2) pairs.push_back(m);
   }
+  // The wrist flip of three joints: the middle one mirrored, the ones above
+  // and below it half a turn.
+  for (const std::vector<int>& up : pairs)
+    for (const std::vector<int>& down : pairs)
+      if (up[1] == down[0] && turnable(up[0]) && turnable(down[1]))
+        moves.push_back({{up[1]}, {up[0], down[1]}});
   return moves;
 }
 
 void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
-               const MinimumMove& move, SensorParameters* theta, RowMatrix* q) {
-  for (int i : move.flip) flipSign(guesses[i], theta, q);
+               const MinimumMove& move, SensorParameters* theta, RowMatrix* q,
+               bool mirror_about_zero) {
+  for (int i : move.flip) flipSign(guesses[i], theta, q, mirror_about_zero);
   for (int i : move.half_turn) halfTurn(robot, guesses[i], theta, q);
 }
 

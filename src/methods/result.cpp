@@ -4,6 +4,7 @@
 
 
 #include "methods/method.hpp"
+#include "methods/mirror_ambiguity.hpp"
 #include "methods/turn_ambiguity.hpp"
 #include "methods/verdict.hpp"
 #include "solve/pass.hpp"
@@ -90,6 +91,9 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   std::copy(out.after_rms, out.after_rms + kNumSensorGroups, summary.after_rms);
   summary.unidentifiable = std::move(out.uncertainty.unidentifiable);
   for (UnidentifiableDirection& d : turnAmbiguities(model, result.theta, out.q))
+    summary.unidentifiable.push_back(std::move(d));
+  for (UnidentifiableDirection& d :
+       mirrorAmbiguities(problem, fitted, result.theta, out.noise, q, result.std))
     summary.unidentifiable.push_back(std::move(d));
   if (out.uncertainty.std.size() == model.thetaSpace().size())
     summary.origins = originDetermination(model.thetaSpace(), out.uncertainty.std);

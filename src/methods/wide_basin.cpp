@@ -319,6 +319,43 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   return chosen;
 }
 
+namespace {
+// Whether the columns a move turns stay within [lower, upper].
+bool withinLimits(const std::vector<PotGuess>& guesses, const MinimumMove& move,
+                  const RowMatrix& q, const Eigen::VectorXd& lower, const Eigen::VectorXd& upper) {
+  for (const std::vector<int>* moved : {&move.flip, &move.half_turn})
+    for (int i : *moved) {
+      const int j = guesses[i].column;
+      if (q.col(j).minCoeff() < lower[j] || q.col(j).maxCoeff() > upper[j]) return false;
+    }
+  return true;
+}
+}  // namespace
+
+std::vector<MinimumMove> WideBasin::equivalentMoves(const Estimate& est) const {
+  Eigen::VectorXd lower, upper;
+  widenedLimits(model_.robot(), &lower, &upper);
+  ThetaPhaseOptions to;
+  to.threads = threads_;
+  // The cost with θ re-fitted in closed form at the angles of `state`.
+  auto refitCost = [&](SensorParameters theta, QState state) {
+    thetaPhase(model_, noise_, loss_, sub_, state, to, ws_, &theta);
+    return totalCost(model_, theta, noise_, loss_, sub_, FrameOptions(), threads_, ws_, &state);
+  };
+  QState sub;
+  sub.q = subsampleAngles(est.state.q);
+  const double base = refitCost(est.theta, sub);
+  std::vector<MinimumMove> out;
+  for (const MinimumMove& move : minimumMoves(guesses_, moves_)) {
+    SensorParameters theta = est.theta;
+    QState moved = sub;
+    applyMove(model_.robot(), guesses_, move, &theta, &moved.q, true);
+    if (!withinLimits(guesses_, move, moved.q, lower, upper)) continue;
+    if (refitCost(std::move(theta), std::move(moved)) <= (1 + kSameFit) * base) out.push_back(move);
+  }
+  return out;
+}
+
 // The pots' maps adopted, the marker group in closed form, then the
 // marker-led alternation and its sign re-check.
 Estimate WideBasin::estimateFrom(const Candidate* maps, QState state) const {

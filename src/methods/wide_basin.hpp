@@ -27,6 +27,10 @@ constexpr int kInitFrames = 1000;
 // A jump to another minimum is taken when its cost, after a few steps only,
 // is below this share of the converged one's: it can only fall further.
 constexpr double kBetterMinimum = 0.95;
+// Two configurations fit alike when their costs differ by less than this
+// share (an exact symmetry differs by rounding; the wrong minima of the
+// basin test by 15% and more).
+constexpr double kSameFit = 1e-3;
 
 // Returns θ initialised from `theta` (the seed) on obs; state->q (one row per
 // frame of obs, neutral on entry) receives the initial joint angles.
@@ -111,9 +115,9 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses);
 
 // Mirrors joint angle column `g.column` about its mean (about 0 where the
-// bias is held) and flips the sign of its pot's map so that the pot's
-// predictions stay the same.
-void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q);
+// bias is held, or with `about_zero`) and flips the sign of its pot's map so
+// that the pot's predictions stay the same.
+void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q, bool about_zero = false);
 // Moves joint angle column `g.column` half a turn (toward the middle of the
 // joint's limits) and shifts its pot's bias so that the pot's predictions
 // stay the same.
@@ -126,14 +130,19 @@ struct MinimumMove {
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
-// guessed joint below it mirrored (the "wrist flip" of a serial chain: its
-// links then pass through the same places, so markers on or beyond them
-// barely tell the two apart); and both joints of a pair half a turn. None
-// that changes a held gain or bias.
+// guessed joint below it mirrored, and a mirrored joint with the ones above
+// and below it half a turn (the "wrist flips" of a serial chain: its links
+// then pass through the same places, so markers on or beyond them barely
+// tell the two apart, or not at all); and both joints of a pair half a
+// turn. None that changes a held gain or bias.
 std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves);
+// The move's mirrors are about each column's mean, or with
+// `mirror_about_zero` about the joint's zero (where a chain's mirror
+// configurations are exact: the Panda's axes 1 and 3 align at q2 = 0).
 void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
-               const MinimumMove& move, SensorParameters* theta, RowMatrix* q);
+               const MinimumMove& move, SensorParameters* theta, RowMatrix* q,
+               bool mirror_about_zero = false);
 // Whether some marker or pot fits clearly worse than its noise: its median
 // residual over the frames of obs more than `factor` times what Gaussian
 // noise of its σ gives.
@@ -223,6 +232,11 @@ class WideBasin {
   // kBetterMinimum times est's (refined alike), is applied to every frame of
   // est and returned. est is a converged calibration of obs.
   std::optional<MinimumMove> jumpToBetterMinimum(Estimate* est) const;
+  // The jumps of minimumMoves from est that keep every angle within the
+  // q-phase's limits and fit the subsample as well as est (cost within
+  // kSameFit), θ re-fitted in closed form at the moved angles: other
+  // configurations the data cannot tell from est's.
+  std::vector<MinimumMove> equivalentMoves(const Estimate& est) const;
 
  private:
   // The cost after a few alternations and coupled steps on the subsample.

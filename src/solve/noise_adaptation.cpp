@@ -18,6 +18,13 @@ constexpr double kSeedDof = 20.0;
 
 }  // namespace
 
+ScaleTaper scaleTaper(int rows) {
+  // b = 4 τ99(χ²_k); E[φ χ²_k] / (k E[φ]) by quadrature.
+  static constexpr ScaleTaper kTapers[] = {
+      {26.539588, 0.856086}, {36.841360, 0.892140}, {45.379468, 0.910368}};
+  return kTapers[std::clamp(rows, 1, 3) - 1];
+}
+
 double updateScales(const GroupResiduals& residuals, bool extrapolate, GroupScales* scales) {
   double change = 0;
   for (int g = 0; g < kNumSensorGroups; ++g) {

@@ -7,6 +7,15 @@
 // regression's share of θ); ν₀ (the .cpp's kSeedDof) is the weight of the
 // seed σ, a prior that keeps a group the q_t can fit exactly from
 // collapsing. Every method that adapts σ uses this.
+//
+// Under a robust loss Σ w s grows with the gross errors' size (Huber's
+// weight falls as 1/|r|, so w s grows as |r|: 5% of pot readings at
+// 50-200 σ made the arm's pot σ 24x its truth, the pots then barely counted
+// and their calibration failed). There each reading counts with the taper
+// φ(s) = (1 - s/b)² below b = 4 times its χ² distribution's 99% quantile
+// at the current σ, 0 beyond (smooth, so that the fixed-point iteration
+// settles; readings crossing a hard bound kept σ moving), Σ φ s divided by
+// the taper's share of the mean (E[φ χ²] / (k E[φ])) and dof_g over Σ φ rows.
 #pragma once
 
 #include <vector>
@@ -25,6 +34,13 @@ struct GroupResiduals {
   double wsse[kNumSensorGroups] = {0, 0, 0};
   double dofs[kNumSensorGroups] = {0, 0, 0};
 };
+
+// The taper of a reading of `rows` rows (1-3): bound b and mean share.
+struct ScaleTaper {
+  double bound, mean_share;
+  double weight(double s) const { return s < bound ? (1 - s / bound) * (1 - s / bound) : 0.0; }
+};
+ScaleTaper scaleTaper(int rows);
 
 // Re-estimates each group's κ (a group with at most half a degree of
 // freedom keeps its κ); returns the largest relative change. With

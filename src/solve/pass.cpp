@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solve/noise_adaptation.hpp"
 #include "solve/origin_prior.hpp"
 #include "solve/parallel.hpp"
 
@@ -16,6 +17,8 @@ void PassStats::add(const PassStats& s) {
     wsse[g] += s.wsse[g];
     wdims[g] += s.wdims[g];
     leverage[g] += s.leverage[g];
+    tapered_wsse[g] += s.tapered_wsse[g];
+    tapered_rows[g] += s.tapered_rows[g];
     group_cost[g] += s.group_cost[g];
   }
 }
@@ -36,6 +39,9 @@ int addReadings(const FrameWorkspace& w, const NoiseModel& noise, const NoiseMod
     const double ratio = sigma / seed_sigma;
     st->wsse[g_idx] += rj.weight * rj.s * ratio * ratio;
     st->wdims[g_idx] += rj.weight * rj.rows;
+    const double phi = scaleTaper(rj.rows).weight(rj.s);
+    st->tapered_wsse[g_idx] += phi * rj.s * ratio * ratio;
+    st->tapered_rows[g_idx] += phi * rj.rows;
     st->group_cost[g_idx] += 0.5 * rj.rho;
     rows += rj.rows;
   }

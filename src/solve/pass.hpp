@@ -21,6 +21,10 @@ struct PassStats {
   double wsse[kNumSensorGroups] = {0, 0, 0};     // Σ w s (seed-whitened)
   double wdims[kNumSensorGroups] = {0, 0, 0};    // Σ w rows
   double leverage[kNumSensorGroups] = {0, 0, 0};
+  // The same with each reading's scaleTaper at the current σ
+  // (noise_adaptation.hpp): a robust loss's σ estimate.
+  double tapered_wsse[kNumSensorGroups] = {0, 0, 0};  // Σ φ s (seed-whitened)
+  double tapered_rows[kNumSensorGroups] = {0, 0, 0};  // Σ φ rows
   double group_cost[kNumSensorGroups] = {0, 0, 0};  // ½ Σ ρ per group
 
   // RMS raw residual of group g (0 without readings): the one definition of
