@@ -87,6 +87,13 @@ bool listsTheMirror(const std::vector<UnidentifiableDirection>& dirs) {
   });
 }
 
+// Calibrated from the truth and its angles (no initialisation).
+CalibrationResult calibrateFromTheTruth(const Chain& c) {
+  CalibrationOptions o;
+  o.threads = 2;
+  return calibrate(c.robot, c.truth.sensors, c.truth.theta, c.obs, o, nullptr, &c.q);
+}
+
 TEST(MirrorAmbiguity, TheWristFlipFitsAlikeWithTheMiddleMarkersFree) {
   const Chain c(false);
   const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
@@ -103,20 +110,12 @@ TEST(MirrorAmbiguity, TheWristFlipFitsAlikeWithTheMiddleMarkersFree) {
 }
 
 TEST(MirrorAmbiguity, ACalibrationListsIt) {
-  const Chain c(false);
-  CalibrationOptions o;
-  o.threads = 2;
-  const CalibrationResult r =
-      calibrate(c.robot, c.truth.sensors, c.truth.theta, c.obs, o, nullptr, &c.q);
+  const CalibrationResult r = calibrateFromTheTruth(Chain(false));
   EXPECT_TRUE(listsTheMirror(r.summary.unidentifiable));
 }
 
 TEST(MirrorAmbiguity, AMarkerHeldOnALinkInBetweenTellsThemApart) {
-  const Chain c(true);
-  CalibrationOptions o;
-  o.threads = 2;
-  const CalibrationResult r =
-      calibrate(c.robot, c.truth.sensors, c.truth.theta, c.obs, o, nullptr, &c.q);
+  const CalibrationResult r = calibrateFromTheTruth(Chain(true));
   EXPECT_FALSE(listsTheMirror(r.summary.unidentifiable));
   EXPECT_TRUE(r.summary.unidentifiable.empty()) << r.summary.unidentifiable[0].reason;
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];

@@ -57,6 +57,14 @@ Candidate truthMaps(const std::vector<PotGuess>& guesses, const SensorParameters
   return c;
 }
 
+// The truth's θ and angles.
+Estimate atTheTruth(const test::ArmProblem& p) {
+  Estimate est;
+  est.theta = p.truth;
+  est.state.q = p.q_true;
+  return est;
+}
+
 // The largest of the joints' RMS errors (pot noise alone gives up to
 // 0.01 / 0.5 = 0.02 rad on the arm).
 double worstRmsError(const RowMatrix& q, const RowMatrix& truth) {
@@ -382,9 +390,7 @@ TEST(WideBasinAlternation, PotWeightZeroLeavesThePotsOutOfQ) {
 TEST(WideBasinAlternation, RecheckRightsASignTheMarkersContradict) {
   ArmSetup s(arm(300));
   const WideBasin wb = s.basin(s.p.seed);
-  Estimate est;
-  est.theta = s.p.truth;
-  est.state.q = s.p.q_true;
+  Estimate est = atTheTruth(s.p);
   EXPECT_FALSE(wb.recheckSigns(&est));  // nothing misfits: nothing tried
   // j4 mirrored together with its pot's map (flipSign): the pots fit as
   // before, the markers do not.
@@ -453,9 +459,7 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
 TEST(WideBasinAfterConvergence, JumpsBackFromAWristFlip) {
   ArmSetup s(arm(300));
   const WideBasin wb = s.basin(s.p.seed);
-  Estimate est;
-  est.theta = s.p.truth;
-  est.state.q = s.p.q_true;
+  Estimate est = atTheTruth(s.p);
   EXPECT_FALSE(wb.jumpToBetterMinimum(&est));
   const MinimumMove wrist_flip{{3}, {2}};
   applyMove(s.p.robot, wb.guesses(), wrist_flip, &est.theta, &est.state.q);
