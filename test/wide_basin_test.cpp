@@ -438,7 +438,7 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   // three-joint wrist flips about j2 and j3.
   const std::vector<MinimumMove> moves = minimumMoves(wb.guesses(), wb.moves());
   EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 2u);
-  const MinimumMove about_j2{{1}, {0, 2}};
+  const MinimumMove about_j2{{1}, {0, 2}, {}};
   EXPECT_EQ(std::count_if(moves.begin(), moves.end(), [&](const MinimumMove& m) {
               return m.flip == about_j2.flip && m.half_turn == about_j2.half_turn;
             }), 1);
@@ -461,7 +461,7 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAWristFlip) {
   const WideBasin wb = s.basin(s.p.seed);
   Estimate est = atTheTruth(s.p);
   EXPECT_FALSE(wb.jumpToBetterMinimum(&est));
-  const MinimumMove wrist_flip{{3}, {2}};
+  const MinimumMove wrist_flip{{3}, {2}, {}};
   applyMove(s.p.robot, wb.guesses(), wrist_flip, &est.theta, &est.state.q);
   ASSERT_NE(est.theta.joint_sensor[3].gain, s.p.truth.joint_sensor[3].gain);
   const auto jump = wb.jumpToBetterMinimum(&est);

@@ -68,26 +68,16 @@ bool EvaluationOptions::isValid(std::string* error) const {
 
 namespace {
 
-// A joint within a micro-radian (or micrometre) of its widened bound.
+// The frames whose q the q-phase held at a bound of its box.
 void countFramesAtLimit(const RobotModel& robot, EvaluationResult* r) {
-  Eigen::VectorXd lower, upper;
-  widenedLimits(robot, &lower, &upper);
-  r->frames_at_limit.assign(robot.dof(), 0);
+  const auto at = atWidenedLimit(robot, r->q);
   r->q_names.clear();
   for (int j = 0; j < robot.dof(); ++j)
     r->q_names.push_back(robot.qName(j));
-  r->frames_clamped = 0;
-  for (int t = 0; t < r->q.rows(); ++t) {
-    bool any = false;
-    for (int j = 0; j < robot.dof(); ++j) {
-      const double q = r->q(t, j);
-      const bool at = upper[j] > lower[j] && ( (std::isfinite(lower[j]) && q <= lower[j] + 1e-6) ||
-                      (std::isfinite(upper[j]) && q >= upper[j] - 1e-6));
-      r->frames_at_limit[j] += at;
-      any |= at;
-    }
-    r->frames_clamped += any;
-  }
+  r->frames_at_limit.assign(robot.dof(), 0);
+  for (int j = 0; j < robot.dof(); ++j)
+    r->frames_at_limit[j] = static_cast<int>(at.col(j).count());
+  r->frames_clamped = static_cast<int>(at.rowwise().any().count());
 }
 
 }  // namespace

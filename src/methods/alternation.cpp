@@ -17,6 +17,7 @@
 #include "solve/parallel.hpp"
 #include "solve/schur.hpp"
 #include "solve/theta_phase.hpp"
+#include "methods/verdict.hpp"
 #include "methods/wide_basin.hpp"
 
 namespace stac {
@@ -282,11 +283,13 @@ constexpr double kEscapeMisfit = 1.4;
 constexpr int kEscapes = 2;
 
 // The initialisation's searches can leave a minimum whose pots' maps are a
-// discrete jump from the right ones (a wrist flip, a sign) that fits a
-// little worse. From the converged state, where a sensor misfits, the jumps
+// discrete jump from the right ones (a wrist flip, a sign, a whole turn)
+// that fits a little worse. From the converged state, where a sensor
+// misfits or a joint often sits at its limit (verdict.hpp), the jumps
 // (WideBasin::jumpToBetterMinimum) are tried; the alternation goes on from
 // a clearly better one, and its end is kept if it fits better at the σ the
-// run had (the adapted σ would hide the difference). Only from a converged
+// run had (the adapted σ would hide the difference), or as well with fewer
+// frames at the joints' limits (jumpToBetterMinimum). Only from a converged
 // run, and within its iteration limit. Returns the loop's outcome,
 // iterations counted on from `loop`'s.
 LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s, Workspaces* ws,
@@ -297,7 +300,8 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
     // iterations the caller allowed.
     if (!loop.converged || loop.iterations >= in.options.max_iterations) break;
     if (!someSensorMisfits(problem.model, s->theta, problem.seed_noise, problem.obs, s->q.q,
-                           kEscapeMisfit))
+                           kEscapeMisfit) &&
+        jointsOftenAtLimit(problem.model.robot(), s->q.q, kEscapeShareAtLimit).empty())
       break;
     Estimate est{s->theta, s->q};
     {
@@ -317,7 +321,9 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
         [&](int it, const PassStats& st) { if (report) report(done + it, st); });
     const double was = costPass(problem, before.theta, before.noise, before.q.q, false, ws).cost;
     const double now = costPass(problem, s->theta, before.noise, s->q.q, false, ws).cost;
-    if (!(now < was)) {
+    const RobotModel& robot = problem.model.robot();
+    const bool within = atWidenedLimit(robot, s->q.q).count() < atWidenedLimit(robot, before.q.q).count();
+    if (!(now < was) && !(within && now <= (1 + kSameFit) * was)) {
       *s = std::move(before);
       break;
     }

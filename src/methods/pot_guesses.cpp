@@ -177,13 +177,34 @@ void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q, bool abo
   gb.gain = -gb.gain;
 }
 
-// p = g q + b = g (q + s pi) + (b - g s pi).
-void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+namespace {
+// p = g q + b = g (q + s k pi) + (b - g s k pi): k half turns toward the
+// middle of the joint's limits.
+void turn(const RobotModel& robot, const PotGuess& g, int half_turns, SensorParameters* theta,
+          RowMatrix* q) {
   const double mid = 0.5 * (robot.lowerLimits()[g.column] + robot.upperLimits()[g.column]);
   const double s = std::isfinite(mid) && q->col(g.column).mean() > mid ? -1.0 : 1.0;
-  q->col(g.column).array() += s * M_PI;
+  q->col(g.column).array() += s * half_turns * M_PI;
   GainBias& gb = theta->joint_sensor[g.sensor];
-  gb.bias -= gb.gain * s * M_PI;
+  gb.bias -= gb.gain * s * half_turns * M_PI;
+}
+}  // namespace
+
+void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+  turn(robot, g, 1, theta, q);
+}
+
+std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
+                                        const std::vector<PotGuess>& guesses) {
+  std::vector<MinimumMove> moves;
+  for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
+    const int j = guesses[i].column;
+    const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
+    const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type == JointType::kRevolute;
+    if (!guesses[i].bias_held && revolute && std::isfinite(span) && span > 2 * M_PI)
+      moves.push_back({{}, {}, {i}});
+  }
+  return moves;
 }
 
 std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
@@ -193,11 +214,11 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   std::vector<std::vector<int>> pairs;  // {above, below}
   for (const std::vector<int>& m : sign_moves) {
     if (touchesFixed(guesses, m)) continue;
-    moves.push_back({m, {}});
-    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m});
+    moves.push_back({m, {}, {}});
+    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m, {}});
     if (m.size() == 2 && turnable(m[0])) {  // m[0] is above m[1]
-      moves.push_back({{m[1]}, {m[0]}});
-      if (turnable(m[1])) moves.push_back({{}, m});
+      moves.push_back({{m[1]}, {m[0]}, {}});
+      if (turnable(m[1])) moves.push_back({{}, m, {}});
     }
     if (m.size() == 2) pairs.push_back(m);
   }
@@ -206,7 +227,7 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   for (const std::vector<int>& up : pairs)
     for (const std::vector<int>& down : pairs)
       if (up[1] == down[0] && turnable(up[0]) && turnable(down[1]))
-        moves.push_back({{up[1]}, {up[0], down[1]}});
+        moves.push_back({{up[1]}, {up[0], down[1]}, {}});
   return moves;
 }
 
@@ -214,7 +235,8 @@ void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                const MinimumMove& move, SensorParameters* theta, RowMatrix* q,
                bool mirror_about_zero) {
   for (int i : move.flip) flipSign(guesses[i], theta, q, mirror_about_zero);
-  for (int i : move.half_turn) halfTurn(robot, guesses[i], theta, q);
+  for (int i : move.half_turn) turn(robot, guesses[i], 1, theta, q);
+  for (int i : move.whole_turn) turn(robot, guesses[i], 2, theta, q);
 }
 
 }  // namespace stac

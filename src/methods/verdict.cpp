@@ -12,7 +12,6 @@
 namespace stac {
 namespace {
 
-
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
   char buf[256];
   std::snprintf(buf, sizeof buf, fmt, a, b, c);
@@ -128,7 +127,47 @@ void checkMarkers(const MethodInput& in, const CalibrationResult& r,
   }
 }
 
+// Whether the data leave where joint j's motion lies open (the bias of a
+// pot on it is listed unidentifiable, e.g. a lift's bias against the mocap
+// translation): its frames at a limit then show where the fit drifted to,
+// not a wrong minimum.
+bool placementUndetermined(const RobotModel& robot, const CalibrationResult& r, int j) {
+  for (const JointSensorConfig& js : r.sensors.joint_sensors) {
+    if (robot.movableJoints()[js.joint].q_index != j) continue;
+    const std::string bias = "joint_sensors." + js.name + ".bias";
+    for (const UnidentifiableDirection& d : r.summary.unidentifiable)
+      if (std::find(d.parameters.begin(), d.parameters.end(), bias) != d.parameters.end())
+        return true;
+  }
+  return false;
+}
+
+void checkLimits(const MethodInput& in, const Fit& fit, const CalibrationResult& r,
+                 std::vector<std::string>* why) {
+  const RobotModel& robot = in.problem.model.robot();
+  const auto at = atWidenedLimit(robot, fit.q);
+  for (int j : jointsOftenAtLimit(robot, fit.q, kSuspectShareAtLimit)) {
+    if (placementUndetermined(robot, r, j)) continue;
+    why->push_back("joint " + robot.qName(j) +
+                   format(" sits at its limit (the URDF's, widened by 5%%) in %.0f of %.0f frames: "
+                          "the calibration puts its motion beyond the joint's range (a wrong "
+                          "minimum, e.g. a pot's map a whole turn off, or URDF limits narrower "
+                          "than the robot's)",
+                          static_cast<double>(at.col(j).count()), static_cast<double>(fit.q.rows())));
+  }
+}
+
 }  // namespace
+
+std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q, double share) {
+  const auto at = atWidenedLimit(robot, q);
+  std::vector<int> out;
+  for (int j = 0; j < at.cols(); ++j) {
+    const auto n = at.col(j).count();
+    if (n >= 3 && n > share * static_cast<double>(q.rows())) out.push_back(j);
+  }
+  return out;
+}
 
 std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, const Fit& fit,
                                    const CalibrationResult& r) {
@@ -150,6 +189,7 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, co
     checkMedians(in, fit, r, &why);
   }
   checkMarkers(in, r, &why);
+  checkLimits(in, fit, r, &why);
   checkJointOrigins(r.sensors, r.theta, &why);
   return why;
 }

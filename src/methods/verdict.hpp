@@ -16,6 +16,24 @@ constexpr double kSuspectFitRatio = 3.0;
 // A sensor whose RMS residual is this many times its own σ (no robust loss).
 constexpr double kSuspectSensorRatio = 4.0;
 
+// A joint the fit holds at a bound of the q-phase's box (the URDF limits
+// widened by 5%) in more than this share of the frames: its readings ask
+// for angles the robot cannot reach. True angles never leave the limits, so
+// a calibration that puts a joint's motion beyond them in many frames is a
+// wrong minimum (a pot's map a whole turn off, a wrong scale), or the URDF's
+// limits are narrower than the robot's. Gross readings put frames there
+// too: a pot's gross error on a joint few markers see moves the joint with
+// it (5% gross readings held 2-5% of the frames of the basin test's arm4 at
+// a limit), hence a share well above that.
+constexpr double kSuspectShareAtLimit = 0.10;
+// The share of frames at a limit from which a converged run looks for a
+// better minimum (alternation.cpp): a false start costs only time.
+constexpr double kEscapeShareAtLimit = 0.02;
+
+// The joints (q indices) q holds at a limit in more than `share` of its
+// rows, and in at least 3.
+std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q, double share);
+
 // The frames a method fitted (all of the log's, or the classical
 // regression's usable ones) and their q.
 struct Fit {

@@ -306,16 +306,32 @@ bool WideBasin::recheckSigns(Estimate* est) const {
 std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   QState sub;
   sub.q = subsampleAngles(est->state.q);
-  double best = kBetterMinimum * refinedCost(est->theta, sub);
-  std::optional<MinimumMove> chosen;
-  for (const MinimumMove& move : minimumMoves(guesses_, moves_)) {
+  const double base = refinedCost(est->theta, sub);
+  const RobotModel& robot = model_.robot();
+  const auto at_limit = atWidenedLimit(robot, sub.q);
+  double best = kBetterMinimum * base, within_cost = (1 + kSameFit) * base;
+  std::optional<MinimumMove> chosen, within;
+  std::vector<MinimumMove> moves = minimumMoves(guesses_, moves_);
+  for (MinimumMove& move : wholeTurnMoves(robot, guesses_)) moves.push_back(std::move(move));
+  for (const MinimumMove& move : moves) {
     SensorParameters theta = est->theta;
     QState moved = sub;
-    applyMove(model_.robot(), guesses_, move, &theta, &moved.q);
+    applyMove(robot, guesses_, move, &theta, &moved.q);
+    // A whole turn that leaves fewer frames at or beyond the joint's limits.
+    bool relieves = false;
+    for (int i : move.whole_turn) {
+      const int j = guesses_[i].column;
+      relieves |= atWidenedLimit(robot, moved.q).col(j).count() < at_limit.col(j).count();
+    }
     const double cost = refinedCost(std::move(theta), std::move(moved));
-    if (cost < best) best = cost, chosen = move;
+    if (cost < best) {
+      best = cost, chosen = move;
+    } else if (relieves && cost <= within_cost) {
+      within_cost = cost, within = move;
+    }
   }
-  if (chosen) applyMove(model_.robot(), guesses_, *chosen, &est->theta, &est->state.q);
+  if (!chosen) chosen = within;
+  if (chosen) applyMove(robot, guesses_, *chosen, &est->theta, &est->state.q);
   return chosen;
 }
 

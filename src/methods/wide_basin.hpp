@@ -24,13 +24,18 @@ namespace stac {
 
 // Frames used for initialising: at most this many, spread over the log.
 constexpr int kInitFrames = 1000;
-// A jump to another minimum is taken when its cost, after a few steps only,
-// is below this share of the converged one's: it can only fall further.
-constexpr double kBetterMinimum = 0.95;
 // Two configurations fit alike when their costs differ by less than this
 // share (an exact symmetry differs by rounding; the wrong minima of the
 // basin test by 15% and more).
 constexpr double kSameFit = 1e-3;
+// A jump to another minimum is taken when its cost, after a few steps only,
+// is below the converged one's by more than kSameFit: it can only fall
+// further. Not by more: under gross outliers the robust loss's linear tails
+// dominate the cost, and a pot's map a whole turn off, 35% of the frames
+// held at a limit, costs less than 1% more (the run then goes on from the
+// jump and keeps its end only if it fits better, so a false jump costs
+// time, not accuracy).
+constexpr double kBetterMinimum = 1.0 - kSameFit;
 
 // Returns θ initialised from `theta` (the seed) on obs; state->q (one row per
 // frame of obs, neutral on entry) receives the initial joint angles.
@@ -124,9 +129,10 @@ void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q, bool abo
 void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q);
 
 // A discrete jump between minima of the pots' maps: the guesses `flip`
-// mirrored (flipSign), the guesses `half_turn` moved half a turn.
+// mirrored (flipSign), the guesses `half_turn` moved half a turn, the
+// guesses `whole_turn` a whole turn (both toward the middle of the limits).
 struct MinimumMove {
-  std::vector<int> flip, half_turn;
+  std::vector<int> flip, half_turn, whole_turn;
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
@@ -137,6 +143,12 @@ struct MinimumMove {
 // turn. None that changes a held gain or bias.
 std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves);
+// Each guess whose joint's limits span more than a turn (a UR arm's ±2π),
+// a whole turn: the same kinematics and pot predictions, but a log's
+// motion placed a turn off runs into the limits in some frames. None that
+// changes a held bias.
+std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
+                                        const std::vector<PotGuess>& guesses);
 // The move's mirrors are about each column's mean, or with
 // `mirror_about_zero` about the joint's zero (where a chain's mirror
 // configurations are exact: the Panda's axes 1 and 3 align at q2 = 0).
@@ -227,10 +239,14 @@ class WideBasin {
   Estimate estimateFrom(const Candidate* maps, QState state) const;
 
   // ---- After convergence ----
-  // Each of minimumMoves from est, refined by a few alternations and
-  // coupled steps on the subsample; the best, if its cost is below
-  // kBetterMinimum times est's (refined alike), is applied to every frame of
-  // est and returned. est is a converged calibration of obs.
+  // Each of minimumMoves and wholeTurnMoves from est, refined by a few
+  // alternations and coupled steps on the subsample; the best, if its cost
+  // is below kBetterMinimum times est's (refined alike), is applied to every
+  // frame of est and returned. Failing that, a whole turn that fits as well
+  // (within kSameFit) and leaves fewer frames at the joint's limits: true
+  // angles lie within them, and a motion placed a turn off that runs only a
+  // little past a limit costs hardly more. est is a converged calibration
+  // of obs.
   std::optional<MinimumMove> jumpToBetterMinimum(Estimate* est) const;
   // The jumps of minimumMoves from est that keep every angle within the
   // q-phase's limits and fit the subsample as well as est (cost within

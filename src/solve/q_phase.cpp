@@ -90,6 +90,19 @@ void widenedLimits(const RobotModel& robot, Eigen::VectorXd* lower, Eigen::Vecto
   }
 }
 
+Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> atWidenedLimit(const RobotModel& robot,
+                                                                   const RowMatrix& q) {
+  Eigen::VectorXd lower, upper;
+  widenedLimits(robot, &lower, &upper);
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> at(q.rows(), q.cols());
+  for (int t = 0; t < q.rows(); ++t)
+    for (int j = 0; j < q.cols(); ++j)
+      at(t, j) = upper[j] > lower[j] &&
+                 ((std::isfinite(lower[j]) && q(t, j) <= lower[j] + 1e-6) ||
+                  (std::isfinite(upper[j]) && q(t, j) >= upper[j] - 1e-6));
+  return at;
+}
+
 namespace {
 
 struct FrameSolver {

@@ -25,6 +25,11 @@ struct QPhaseOptions {
 // solutions of the marker geometry (a joint turned half a turn with its
 // link's markers turned back), which fit the readings as well.
 void widenedLimits(const RobotModel& robot, Eigen::VectorXd* lower, Eigen::VectorXd* upper);
+// Whether each joint of each row of q sits on that box's bound (within a
+// micro-radian or micrometre): the q-phase stopped it there, its readings
+// asking for more. Rows of q x dof.
+Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> atWidenedLimit(const RobotModel& robot,
+                                                                   const RowMatrix& q);
 
 struct QState {
   RowMatrix q;               // frames x dof
