@@ -16,67 +16,14 @@
 #include "stac/calibrate.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
+#include "support/chain_fixture.hpp"
 
 namespace stac {
 namespace {
 
-const char* kChainUrdf = R"(<robot name="chain4">
-  <link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/>
-  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
-    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-4" upper="4" effort="1" velocity="1"/></joint>
-  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
-    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
-  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>
-    <origin xyz="0 0 0.3"/><axis xyz="0 0 1"/><limit lower="-4" upper="4" effort="1" velocity="1"/></joint>
-  <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/>
-    <origin xyz="0 0 0.2"/><axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
-</robot>
-)";
-
-// `l2_held`: the marker of link 2 at its known position.
-std::string chainTruth(bool l2_held) {
-  return std::string(R"(mocap:
-  sigma: 0.002
-  frame:
-    translation: [0.4, -0.2, 0.7]
-    rpy: [0.2, -0.1, 1.0]
-  markers:
-    - {name: m_base, link: base, position: [0.05, 0.03, 0.0], fixed: true}
-    - {name: m_l1, link: l1, position: [0.06, 0.02, 0.03]}
-    - {name: m_l2, link: l2, position: [0.05, -0.04, 0.15])") +
-         (l2_held ? ", fixed: true}" : "}") + R"(
-    - {name: m_l3, link: l3, position: [0.04, 0.05, 0.1]}
-    - {name: m_l4a, link: l4, position: [0.04, 0.03, 0.05], fixed: true}
-    - {name: m_l4b, link: l4, position: [0.02, -0.03, 0.08]}
-joint_sensors:
-  - {name: j1_pot, joint: j1, gain: -1.5, bias: 0.4, sigma: 0.01}
-  - {name: j2_pot, joint: j2, gain: 2.1, bias: -0.7, sigma: 0.01}
-  - {name: j3_pot, joint: j3, gain: 0.8, bias: 1.1, sigma: 0.01}
-  - {name: j4_pot, joint: j4, gain: -1.2, bias: 0.2, sigma: 0.01}
-)";
-}
-
-struct Chain {
-  explicit Chain(bool l2_held)
-      : robot(RobotModel::fromString(kChainUrdf, "chain4")),
-        truth(parseSensorsYaml(chainTruth(l2_held), "chain truth", robot)),
-        model(robot, truth.sensors) {
-    std::mt19937_64 rng(3);
-    q = simulateMotion(robot, 400, 100.0, rng);
-    // j1 and j3 over [-0.5, 0.7] only: half a turn away fits the limits too.
-    for (int j : {0, 2}) {
-      const double lo = q.col(j).minCoeff(), hi = q.col(j).maxCoeff();
-      q.col(j) = ((q.col(j).array() - lo) * (1.2 / (hi - lo)) - 0.5).matrix();
-    }
-    SimulationOptions so;
-    so.frames = 400;
-    obs = bindLog(simulateLog(model, truth.theta, q, so, rng).log, truth.sensors, "chain", 1.0);
-  }
-  RobotModel robot;
-  SensorsFile truth;
-  MeasurementModel model;
-  RowMatrix q;
-  Observations obs;
+// j1 and j3 over [-0.5, 0.7] only: half a turn away fits the limits too.
+struct Chain : test::ChainLog {
+  explicit Chain(bool l2_held) : ChainLog(l2_held, 3, {{0, -0.5, 0.7}, {2, -0.5, 0.7}}) {}
 };
 
 bool listsTheMirror(const std::vector<UnidentifiableDirection>& dirs) {
