@@ -255,5 +255,26 @@ TEST_F(CalibCli, SensorsMalformedYaml) {
   expectSensorsError("joint_sensors:\n  - {name: j1_pot, joint: j1\n", 3, "malformed YAML");
 }
 
+// A Cauchy loss evaluates ρ(s) = c² log(1 + s/c²) as 0 for a reading fitted
+// to ~1e-8 σ (a frame left with one reading by the dropout): the robust
+// rescaling then divided 0 by 0 and every std was NaN, with verdict ok.
+TEST(CalibCliLoss, CauchyOnReadingsFittedExactlyGivesFiniteStd) {
+  test::TempDir dir;
+  const std::string data = STAC_DATA_DIR;
+  const auto sim = test::runCommand(test::appPath("stac_simulate") + " --urdf " + data +
+                                    "/gimbal2.urdf --sensors " + data +
+                                    "/gimbal2_truth.yaml --frames 300 --outliers 0.05 "
+                                    "--dropout 0.3 --seed 1 --log " + dir.file("g.csv"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const auto r = test::runCommand(test::appPath("stac_calib") + " --urdf " + data +
+                                  "/gimbal2.urdf --sensors " + data + "/gimbal2_seed.yaml --log " +
+                                  dir.file("g.csv") + " --loss cauchy --quiet --output " +
+                                  dir.file("cal.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string yaml = test::readFile(dir.file("cal.yaml"));
+  EXPECT_EQ(yaml.find("nan"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("std: {gain: "), std::string::npos) << yaml;
+}
+
 }  // namespace
 }  // namespace stac

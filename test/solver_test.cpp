@@ -8,6 +8,8 @@
 #include <random>
 
 #include "stac/calibrate.hpp"
+#include "solve/pass.hpp"
+#include "solve/problem.hpp"
 #include "support/arm_fixture.hpp"
 
 namespace stac {
@@ -184,6 +186,42 @@ TEST(Stac, HuberLossSurvivesFivePercentOutliersAndListsThem) {
   for (const DownweightedReading& d : r.summary.downweighted)
     for (const auto& [t, name] : outliers) found += (t == d.frame && name == d.sensor);
   EXPECT_EQ(found, 20);  // every listed reading is an injected outlier
+}
+
+// What the Huber run sets aside once converged (pass.hpp
+// withoutGrossReadings): at the truth, exactly the injected gross readings
+// (20-60 σ, 5-20 cm), each as a whole (a marker's three coordinates), and
+// nothing else: the clean readings' 5.2 σ bound is passed once in 4 million.
+TEST(Stac, GrossReadingsSetAsideAreExactlyTheInjectedOnes) {
+  test::ArmProblem p = test::makeArmProblem(500, 12);
+  const Observations clean = p.obs;
+  const auto outliers = test::addOutliers(p.sensors, 0.05, 99, &p.obs);
+  const MeasurementModel model(p.robot, p.sensors);
+  const NoiseModel noise = NoiseModel::fromSeeds(p.sensors);
+  const RobustLoss huber(LossKind::kHuber, 3.0);
+  const Problem problem{model, p.obs, noise, huber, 2};
+  int count = -1;
+  const Observations kept = withoutGrossReadings(problem, p.truth, noise, p.q_true, &count);
+  EXPECT_EQ(count, static_cast<int>(outliers.size()));
+  const SensorSet& s = p.sensors;
+  auto setAside = [&](int t, const std::string& name) {
+    for (size_t m = 0; m < s.markers.size(); ++m)
+      if (s.markers[m].name == name)
+        return kept.marker.block(t, 3 * m, 1, 3).array().isNaN().all() &&
+               !std::isnan(clean.marker(t, 3 * m));
+    for (size_t j = 0; j < s.joint_sensors.size(); ++j)
+      if (s.joint_sensors[j].name == name) return std::isnan(kept.joint(t, j));
+    for (size_t j = 0; j < s.tendon_sensors.size(); ++j)
+      if (s.tendon_sensors[j].name == name) return std::isnan(kept.tendon(t, j));
+    return false;
+  };
+  for (const auto& [t, name] : outliers) EXPECT_TRUE(setAside(t, name)) << t << " " << name;
+  // Nothing else: as many readings missing as the clean log's plus those.
+  auto missing = [](const Observations& o) {
+    return o.marker.array().isNaN().count() / 3 + o.joint.array().isNaN().count() +
+           o.tendon.array().isNaN().count();
+  };
+  EXPECT_EQ(missing(kept), missing(clean) + static_cast<long>(outliers.size()));
 }
 
 TEST(Stac, ReportedStdMatchesTheSpreadOverNoiseSeeds) {

@@ -190,6 +190,10 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, co
   }
   checkMarkers(in, r, &why);
   checkLimits(in, fit, r, &why);
+  // Infinite is a std the data do not determine; NaN is a failed analysis.
+  if (out.uncertainty.std.hasNaN() || !std::isfinite(out.final_cost))
+    why.push_back("the cost or the uncertainty of the result is not a number (NaN): a "
+                  "numerical failure; the parameters cannot be trusted");
   checkJointOrigins(r.sensors, r.theta, &why);
   return why;
 }

@@ -132,9 +132,14 @@ void robustify(const RobustLoss& loss, ReadingJacobian* rj, bool jac, int nq) {
   rj->weight = rho[1];
   if (!loss.enabled()) return;
   if (s < 1e-300) return;  // ρ(s) ≈ s near zero: the map is the identity
-  const double f = std::sqrt(rho[0] / s);
-  // d f / d s, with f = sqrt(ρ/s): (ρ' s - ρ) / (2 s² f)
-  const double df = (rho[1] * s - rho[0]) / (2.0 * s * s * f);
+  // f = sqrt(ρ/s) and d f / d s = (ρ' s - ρ) / (2 s² f). Near s = 0 both
+  // lose everything to rounding (a Cauchy loss evaluates ρ = log(1 + s/c²)
+  // as 0 for s ~ 1e-16: f = 0, df = -inf, and NaN std for every parameter);
+  // there their expansions about s: ρ/s = ρ' - ρ'' s / 2 and df = ρ'' / (4 f),
+  // to a relative 1e-6.
+  const bool near_zero = s < 1e-6;
+  const double f = std::sqrt(near_zero ? rho[1] - 0.5 * rho[2] * s : rho[0] / s);
+  const double df = near_zero ? rho[2] / (4.0 * f) : (rho[1] * s - rho[0]) / (2.0 * s * s * f);
   if (jac) {
     // J' = f J + r (df * 2 r^T J)
     const Eigen::VectorXd r = rj->r.head(n);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "solve/noise_adaptation.hpp"
 #include "solve/origin_prior.hpp"
@@ -114,6 +115,48 @@ std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
   });
   if (static_cast<int>(all.size()) > max_count) all.resize(max_count);
   return all;
+}
+
+Observations withoutGrossReadings(const Problem& problem, const SensorParameters& theta,
+                                  const NoiseModel& noise, const RowMatrix& q, int* count) {
+  const MeasurementModel& model = problem.model;
+  Workspaces ws = makeWorkspaces(model, problem.threads);
+  const int T = problem.obs.num_frames;
+  struct Gross {
+    int frame;
+    SensorGroup group;
+    int sensor;
+  };
+  std::vector<std::vector<Gross>> per_chunk(numChunks(T));
+  FrameOptions eo;
+  eo.jacobians = false;
+  parallelFor(numChunks(T), problem.threads, [&](int chunk, int tid) {
+    FrameWorkspace& w = ws[tid];
+    Eigen::VectorXd qt(model.dof());
+    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
+    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
+      qt = q.row(t).transpose();
+      evaluateFrame(model, theta, noise, problem.loss, frameReadings(problem.obs, t), qt, eo, &w);
+      for (int i = 0; i < w.count; ++i) {
+        const ReadingJacobian& rj = w.readings[i];
+        if (rj.s > scaleTaper(rj.rows).bound) per_chunk[chunk].push_back({t, rj.group, rj.sensor});
+      }
+    }
+  });
+  Observations kept = problem.obs;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  *count = 0;
+  for (const auto& chunk : per_chunk)
+    for (const Gross& g : chunk) {
+      ++*count;
+      if (g.group == SensorGroup::kMarker)
+        kept.marker.block(g.frame, 3 * g.sensor, 1, 3).setConstant(nan);
+      else if (g.group == SensorGroup::kJoint)
+        kept.joint(g.frame, g.sensor) = nan;
+      else
+        kept.tendon(g.frame, g.sensor) = nan;
+    }
+  return kept;
 }
 
 IterationReport makeReport(int it, const PassStats& st, Clock::time_point start,

@@ -45,6 +45,14 @@ std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
                                                       const NoiseModel& noise, const RowMatrix& q,
                                                       int max_count);
 
+// problem.obs with every reading set aside (missing) whose whitened squared
+// residual at (theta, q, noise) lies beyond the σ taper's bound
+// (noise_adaptation.hpp scaleTaper: 4 times its χ² 99% quantile, 5.2 σ for
+// a scalar, which Gaussian noise passes once in 4 million); *count: how
+// many were.
+Observations withoutGrossReadings(const Problem& problem, const SensorParameters& theta,
+                                  const NoiseModel& noise, const RowMatrix& q, int* count);
+
 // A progress report from a pass.
 using Clock = std::chrono::steady_clock;
 IterationReport makeReport(int iteration, const PassStats& st, Clock::time_point start,
