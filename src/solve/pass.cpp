@@ -82,16 +82,18 @@ PassStats costPass(const Problem& problem, const SensorParameters& theta, const 
   return total;
 }
 
-std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
-                                                      const SensorParameters& theta,
-                                                      const NoiseModel& noise, const RowMatrix& q,
-                                                      int max_count) {
-  std::vector<DownweightedReading> all;
-  if (!problem.loss.enabled() || max_count <= 0) return all;
+namespace {
+
+// Every reading of every frame of problem.obs at q, without Jacobians, in
+// parallel: visit(chunk, frame, reading) for each; chunks are numChunks(T)
+// runs of kFramesPerChunk frames, so that a caller can gather per chunk
+// and keep the frames' order.
+template <typename Visit>
+void forEachReading(const Problem& problem, const SensorParameters& theta, const NoiseModel& noise,
+                    const RowMatrix& q, const Visit& visit) {
   const MeasurementModel& model = problem.model;
   Workspaces ws = makeWorkspaces(model, problem.threads);
   const int T = problem.obs.num_frames;
-  std::vector<std::vector<DownweightedReading>> per_chunk(numChunks(T));
   FrameOptions eo;
   eo.jacobians = false;
   parallelFor(numChunks(T), problem.threads, [&](int chunk, int tid) {
@@ -101,13 +103,24 @@ std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
     for (int t = chunk * kFramesPerChunk; t < end; ++t) {
       qt = q.row(t).transpose();
       evaluateFrame(model, theta, noise, problem.loss, frameReadings(problem.obs, t), qt, eo, &w);
-      for (int i = 0; i < w.count; ++i) {
-        const ReadingJacobian& rj = w.readings[i];
-        if (rj.weight < 0.999)
-          per_chunk[chunk].push_back(
-              {t, model.sensors().sensorName(rj.group, rj.sensor), rj.weight});
-      }
+      for (int i = 0; i < w.count; ++i) visit(chunk, t, w.readings[i]);
     }
+  });
+}
+
+}  // namespace
+
+std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
+                                                      const SensorParameters& theta,
+                                                      const NoiseModel& noise, const RowMatrix& q,
+                                                      int max_count) {
+  std::vector<DownweightedReading> all;
+  if (!problem.loss.enabled() || max_count <= 0) return all;
+  const SensorSet& sensors = problem.model.sensors();
+  std::vector<std::vector<DownweightedReading>> per_chunk(numChunks(problem.obs.num_frames));
+  forEachReading(problem, theta, noise, q, [&](int chunk, int t, const ReadingJacobian& rj) {
+    if (rj.weight < 0.999)
+      per_chunk[chunk].push_back({t, sensors.sensorName(rj.group, rj.sensor), rj.weight});
   });
   for (auto& c : per_chunk) all.insert(all.end(), c.begin(), c.end());
   std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
@@ -119,29 +132,14 @@ std::vector<DownweightedReading> downweightedReadings(const Problem& problem,
 
 Observations withoutGrossReadings(const Problem& problem, const SensorParameters& theta,
                                   const NoiseModel& noise, const RowMatrix& q, int* count) {
-  const MeasurementModel& model = problem.model;
-  Workspaces ws = makeWorkspaces(model, problem.threads);
-  const int T = problem.obs.num_frames;
   struct Gross {
     int frame;
     SensorGroup group;
     int sensor;
   };
-  std::vector<std::vector<Gross>> per_chunk(numChunks(T));
-  FrameOptions eo;
-  eo.jacobians = false;
-  parallelFor(numChunks(T), problem.threads, [&](int chunk, int tid) {
-    FrameWorkspace& w = ws[tid];
-    Eigen::VectorXd qt(model.dof());
-    const int end = std::min(T, (chunk + 1) * kFramesPerChunk);
-    for (int t = chunk * kFramesPerChunk; t < end; ++t) {
-      qt = q.row(t).transpose();
-      evaluateFrame(model, theta, noise, problem.loss, frameReadings(problem.obs, t), qt, eo, &w);
-      for (int i = 0; i < w.count; ++i) {
-        const ReadingJacobian& rj = w.readings[i];
-        if (rj.s > scaleTaper(rj.rows).bound) per_chunk[chunk].push_back({t, rj.group, rj.sensor});
-      }
-    }
+  std::vector<std::vector<Gross>> per_chunk(numChunks(problem.obs.num_frames));
+  forEachReading(problem, theta, noise, q, [&](int chunk, int t, const ReadingJacobian& rj) {
+    if (rj.s > scaleTaper(rj.rows).bound) per_chunk[chunk].push_back({t, rj.group, rj.sensor});
   });
   Observations kept = problem.obs;
   const double nan = std::numeric_limits<double>::quiet_NaN();
