@@ -180,22 +180,6 @@ const char* variantName(Variant v) {
   return v == Variant::kPlain ? "plain" : v == Variant::kOutliers ? "outliers" : "partial";
 }
 
-// Each joint of q moves over 20-40% of its range, off-centre: the motion's
-// column squeezed into a random sub-interval.
-RowMatrix partialSwings(const RobotModel& robot, RowMatrix q, std::mt19937_64& rng) {
-  const std::vector<JointRange> ranges = motionRanges(robot);
-  for (int j = 0; j < robot.dof(); ++j) {
-    const double lo = ranges[j].lower, hi = ranges[j].upper;
-    if (!(hi > lo)) continue;
-    const double width = uni(rng, 0.2, 0.4) * (hi - lo);
-    const double start = uni(rng, lo, hi - width);
-    const double qmin = q.col(j).minCoeff(), qmax = q.col(j).maxCoeff();
-    if (!(qmax > qmin)) continue;
-    q.col(j) = ((q.col(j).array() - qmin) * (width / (qmax - qmin)) + start).matrix();
-  }
-  return q;
-}
-
 // 5% of the present readings replaced by gross errors as the issue draws
 // them: scalar sensors ±50-200 σ, markers moved 5-30 cm.
 void grossOutliers(const SensorSet& s, Log* log, std::mt19937_64& rng) {
@@ -228,7 +212,7 @@ Simulation simulateVariant(const Robot& robot, const MeasurementModel& model,
   std::mt19937_64 rng(seed);
   Simulation sim;
   sim.q = simulateMotion(robot.model, frames, 100.0, rng);
-  if (v == Variant::kPartialSwings) sim.q = partialSwings(robot.model, sim.q, rng);
+  if (v == Variant::kPartialSwings) sim.q = test::partialSwings(robot.model, sim.q, rng);
   SimulationOptions so;
   so.frames = frames;
   if (v == Variant::kOutliers) so.dropout = 0.3;
@@ -302,7 +286,8 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
                   rt.summary.final_cost);
       for (int g = 0; g < kNumSensorGroups; ++g)
         std::printf(" %.4g/%.4g", r.summary.after_rms[g], rt.summary.after_rms[g]);
-      std::printf(", iterations %d/%d\n", r.summary.iterations, rt.summary.iterations);
+      std::printf(", iterations %d/%d, from truth: %s\n", r.summary.iterations, rt.summary.iterations,
+                  rt.summary.unidentifiable.empty() ? "identifiable" : rt.summary.unidentifiable[0].reason.c_str());
       const SensorSet& ss = robot.truth.sensors;
       for (size_t m = 0; m < ss.markers.size(); ++m)
         std::printf("    %s %.3g/%.3g\n", ss.markers[m].name.c_str(), r.marker_residual[m].rms / ss.markers[m].sigma, rt.marker_residual[m].rms / ss.markers[m].sigma);

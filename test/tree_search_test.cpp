@@ -29,25 +29,12 @@ RobotModel ur5() {
 
 double wrap(double a) { return a - 2 * M_PI * std::round(a / (2 * M_PI)); }
 
-// Each joint squeezed into a random 20-40% of its range, off-centre.
-RowMatrix partialSwings(const RobotModel& robot, RowMatrix q, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int j = 0; j < robot.dof(); ++j) {
-    const double lo = robot.lowerLimits()[j], hi = robot.upperLimits()[j];
-    const double width = (0.2 + 0.2 * u(rng)) * (hi - lo);
-    const double start = lo + u(rng) * (hi - lo - width);
-    const double qmin = q.col(j).minCoeff(), qmax = q.col(j).maxCoeff();
-    q.col(j) = ((q.col(j).array() - qmin) * (width / (qmax - qmin)) + start).matrix();
-  }
-  return q;
-}
-
 struct Ur5Partial {
   explicit Ur5Partial(int seed) : robot(ur5()) {
     std::mt19937_64 rng(seed);
     file = parseSensorsYaml(test::inferableTruthYaml(robot, true, rng), "ur5 sensors", robot);
     const MeasurementModel model(robot, file.sensors);
-    q = partialSwings(robot, simulateMotion(robot, 300, 100.0, rng), rng);
+    q = test::partialSwings(robot, simulateMotion(robot, 300, 100.0, rng), rng);
     SimulationOptions so;
     so.frames = 300;
     log = simulateLog(model, file.theta, q, so, rng).log;

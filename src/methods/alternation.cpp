@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "stac/error.hpp"
 #include "solve/statistics.hpp"
@@ -116,7 +117,8 @@ PassStats alternatingIteration(const Problem& problem, const CalibrationOptions&
 
 LoopOutcome stacIterations(const Problem& problem, const CalibrationOptions& options,
                            bool coupled, PassStats st, State* s, Workspaces* ws,
-                           const std::function<void(int, const PassStats&)>& report) {
+                           const std::function<void(int, const PassStats&)>& report,
+                           const std::function<bool(int)>& pause) {
   double cost = st.cost;
   double lambda = 1e-4;
   LoopOutcome out;
@@ -139,6 +141,10 @@ LoopOutcome stacIterations(const Problem& problem, const CalibrationOptions& opt
     cost = st.cost;
     if (std::abs(rel) < options.tolerance && change < 1e-3) {
       out.converged = true;
+      break;
+    }
+    if (pause && pause(it)) {
+      out.paused = true;
       break;
     }
   }
@@ -282,22 +288,46 @@ constexpr double kEscapeMisfit = 1.4;
 // Jumps to a better minimum at most.
 constexpr int kEscapes = 2;
 
+// The alternation on from `moved` (a state s was moved to from `before`,
+// the state `loop` ended in); its end is kept if it fits better at the σ
+// the run had (the adapted σ would hide the difference), or as well with
+// fewer frames at the joints' limits. Returns the kept run's outcome,
+// iterations counted on from `loop`'s; none (*s = before) if not kept.
+std::optional<LoopOutcome> goOnIfBetter(const MethodInput& in, const LoopOutcome& loop,
+                                        State before, State* s, Workspaces* ws,
+                                        const std::function<void(int, const PassStats&)>& report) {
+  const Problem& problem = in.problem;
+  const int done = loop.iterations;
+  CalibrationOptions rest = in.options;
+  rest.max_iterations -= done;
+  LoopOutcome again = stacIterations(
+      problem, rest, in.options.stac.coupled_steps,
+      costPass(problem, s->theta, s->noise, s->q.q, false, ws), s, ws,
+      [&](int it, const PassStats& st) { if (report) report(done + it, st); });
+  const double was = costPass(problem, before.theta, before.noise, before.q.q, false, ws).cost;
+  const double now = costPass(problem, s->theta, before.noise, s->q.q, false, ws).cost;
+  const RobotModel& robot = problem.model.robot();
+  const bool within = atWidenedLimit(robot, s->q.q).count() < atWidenedLimit(robot, before.q.q).count();
+  if (!(now < was) && !(within && now <= (1 + kSameFit) * was)) {
+    *s = std::move(before);
+    return std::nullopt;
+  }
+  again.iterations += done;
+  return again;
+}
+
 // The initialisation's searches can leave a minimum whose pots' maps are a
 // discrete jump from the right ones (a wrist flip, a sign, a whole turn)
-// that fits a little worse. From the converged state, where a sensor
-// misfits or a joint often sits at its limit (verdict.hpp), the jumps
-// (WideBasin::jumpToBetterMinimum) are tried; the alternation goes on from
-// a clearly better one, and its end is kept if it fits better at the σ the
-// run had (the adapted σ would hide the difference), or as well with fewer
-// frames at the joints' limits (jumpToBetterMinimum). Only from a converged
-// run, and within its iteration limit. Returns the loop's outcome,
-// iterations counted on from `loop`'s.
+// that fits a little worse. From a converged run where a sensor misfits or
+// a joint often sits at its limit (verdict.hpp), the jumps
+// (WideBasin::jumpToBetterMinimum) are tried, and the alternation goes on
+// from a clearly better one (goOnIfBetter), at most kEscapes times. Only
+// from a converged run (an unconverged one is reported so), and within its
+// iteration limit.
 LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s, Workspaces* ws,
                                const std::function<void(int, const PassStats&)>& report) {
   const Problem& problem = in.problem;
   for (int round = 0; round < kEscapes; ++round) {
-    // A minimum only (an unconverged run is reported so), and within the
-    // iterations the caller allowed.
     if (!loop.converged || loop.iterations >= in.options.max_iterations) break;
     if (!someSensorMisfits(problem.model, s->theta, problem.seed_noise, problem.obs, s->q.q,
                            kEscapeMisfit) &&
@@ -312,25 +342,69 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
     State before = *s;
     s->theta = std::move(est.theta);
     s->q = std::move(est.state);
-    const int done = loop.iterations;
-    CalibrationOptions rest = in.options;
-    rest.max_iterations -= done;
-    LoopOutcome again = stacIterations(
-        problem, rest, in.options.stac.coupled_steps,
-        costPass(problem, s->theta, s->noise, s->q.q, false, ws), s, ws,
-        [&](int it, const PassStats& st) { if (report) report(done + it, st); });
-    const double was = costPass(problem, before.theta, before.noise, before.q.q, false, ws).cost;
-    const double now = costPass(problem, s->theta, before.noise, s->q.q, false, ws).cost;
-    const RobotModel& robot = problem.model.robot();
-    const bool within = atWidenedLimit(robot, s->q.q).count() < atWidenedLimit(robot, before.q.q).count();
-    if (!(now < was) && !(within && now <= (1 + kSameFit) * was)) {
-      *s = std::move(before);
-      break;
-    }
-    again.iterations += done;
-    loop = std::move(again);
+    std::optional<LoopOutcome> again = goOnIfBetter(in, loop, std::move(before), s, ws, report);
+    if (!again) break;
+    loop = std::move(*again);
   }
   return loop;
+}
+
+// A pot's map p = g q + b can change its sign only through g = ∞, its
+// joint held still: a pot whose map starts with the wrong sign on a joint
+// that few other readings pin (a finger's last joint swung over a third of
+// its range) drifts along that path, its gain growing geometrically while
+// the fit shrinks its joint's motion (×7 in 40 iterations, ×1000 in 200 on
+// the basin test's hand), and never converges. A run still unconverged
+// after kDivergenceCheck iterations with a free gain grown beyond
+// kDivergedGain times its start's is paused once; those pots restart from
+// their start's maps mirrored, their joints' motion with them
+// (flipSign), and the run goes on from there if that ends better.
+constexpr int kDivergenceCheck = 30;
+constexpr double kDivergedGain = 4.0;
+
+// The guesses whose pot's gain in `now` has grown beyond kDivergedGain
+// times its magnitude in `from`.
+std::vector<int> divergedPots(const std::vector<PotGuess>& guesses, const SensorParameters& from,
+                              const SensorParameters& now) {
+  std::vector<int> out;
+  for (size_t i = 0; i < guesses.size(); ++i) {
+    const int j = guesses[i].sensor;
+    if (std::abs(now.joint_sensor[j].gain) > kDivergedGain * std::abs(from.joint_sensor[j].gain))
+      out.push_back(static_cast<int>(i));
+  }
+  return out;
+}
+
+// The alternation from the start, paused where a pot's gain diverges
+// (above); then on to its end.
+LoopOutcome iterateFromStart(const MethodInput& in, const Start& start, State* s, Workspaces* ws,
+                             const std::function<void(int, const PassStats&)>& report) {
+  const Problem& problem = in.problem;
+  const State first = *s;
+  const std::vector<PotGuess> guesses =
+      makePotGuesses(problem.model.robot(), problem.model.sensors(), s->theta, problem.obs);
+  LoopOutcome loop = stacIterations(
+      problem, in.options, start.coupled, start.st, s, ws, report, [&](int it) {
+        return it >= kDivergenceCheck && it < in.options.max_iterations &&
+               !divergedPots(guesses, first.theta, s->theta).empty();
+      });
+  if (!loop.paused) return loop;
+  State before = *s;
+  for (int i : divergedPots(guesses, first.theta, s->theta)) {
+    const PotGuess& g = guesses[i];
+    s->theta.joint_sensor[g.sensor] = first.theta.joint_sensor[g.sensor];
+    s->q.q.col(g.column) = first.q.q.col(g.column);
+    flipSign(g, &s->theta, &s->q.q);
+  }
+  if (std::optional<LoopOutcome> again = goOnIfBetter(in, loop, std::move(before), s, ws, report))
+    return *again;
+  const int done = loop.iterations;
+  CalibrationOptions rest = in.options;
+  rest.max_iterations -= done;
+  LoopOutcome more = stacIterations(problem, rest, in.options.stac.coupled_steps, loop.st, s, ws,
+                                    [&](int it, const PassStats& st) { if (report) report(done + it, st); });
+  more.iterations += done;
+  return more;
 }
 
 // Under Huber's loss a gross reading still pulls with a constant force: on
@@ -376,8 +450,7 @@ Outcome runStac(const MethodInput& in) {
   const auto report = [&](int it, const PassStats& st) {
     if (in.options.progress) in.options.progress(makeReport(it, st, in.start, "stac", &s.theta));
   };
-  LoopOutcome loop =
-      stacIterations(problem, in.options, start.coupled, start.st, &s, &ws, report);
+  LoopOutcome loop = iterateFromStart(in, start, &s, &ws, report);
   loop = escapeWrongMinimum(in, std::move(loop), &s, &ws, report);
   Observations kept;
   const Problem fitted = setGrossReadingsAside(in, &loop, &s, &ws, report, &kept);

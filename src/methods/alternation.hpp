@@ -21,6 +21,7 @@ struct LoopOutcome {
   PassStats st;
   int iterations = 0;
   bool converged = false;
+  bool paused = false;  // `pause` asked to stop
 };
 
 // The alternation from `st` (the last pass at the current σ) until the
@@ -28,10 +29,12 @@ struct LoopOutcome {
 // it stalls (or from the start with `coupled`), coupled Gauss-Newton steps
 // (every q_t eliminated per frame, schur.hpp), which converge fast where q
 // and θ are strongly coupled and the alternation would crawl. `report` sees
-// every iteration.
+// every iteration; `pause` (may be empty), asked after every unconverged
+// one, stops the loop where it returns true.
 LoopOutcome stacIterations(const Problem& problem, const CalibrationOptions& options,
                            bool coupled, PassStats st, State* s, Workspaces* ws,
-                           const std::function<void(int, const PassStats&)>& report);
+                           const std::function<void(int, const PassStats&)>& report,
+                           const std::function<bool(int)>& pause = nullptr);
 
 // The start of a run: the seed, or the wide-basin initialisation on a
 // subsample (solved there first when `presolve`), every frame's q_t from

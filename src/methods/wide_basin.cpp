@@ -58,14 +58,16 @@ FrameOptions markersOnly() {
 
 // Misfit: a median residual over the frames more than `factor` times what
 // Gaussian noise of the sensor's σ gives (statistics.hpp). Medians, so that gross
-// outliers do not count: a sign chosen wrong shows in every frame. Markers
-// and pots only (the tendons are not initialised yet).
+// outliers do not count: a sign chosen wrong shows in every frame. The
+// tendons too: a pot's sign chosen wrong on a joint that moves its markers
+// little (a finger's last joint) shows only in the tendons that span it.
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
-                       double factor) {
+                       double factor, bool tendons) {
   const auto errors = medianErrors(model, theta, obs, q, 1);
-  for (SensorGroup g : {SensorGroup::kMarker, SensorGroup::kJoint}) {
+  for (SensorGroup g : {SensorGroup::kMarker, SensorGroup::kJoint, SensorGroup::kTendon}) {
     const int gi = static_cast<int>(g);
+    if (g == SensorGroup::kTendon && !tendons) continue;
     for (size_t i = 0; i < errors[gi].size(); ++i)
       if (errors[gi][i].count > 0 &&
           errors[gi][i].median > factor * kMedianErrorInSigma[gi] * noise.sigma(g, static_cast<int>(i)))
@@ -272,30 +274,37 @@ double WideBasin::refinedCost(SensorParameters th, QState st) const {
   return c;
 }
 
-// After the initial alternation: if a marker or pot still fits far worse
-// than its noise, the likeliest cause is a pot whose sign the marker-only
-// scoring above got wrong (a joint that moves its markers little, e.g. a
-// wrist with markers close to its axes). Each sign move, tried on the
-// subsample from the current estimate and refined by a few alternations,
-// is kept if it lowers the cost clearly.
+// After the initial alternation: if a sensor still fits far worse than its
+// noise (the tendons fitted to the angles first), the likeliest cause is a
+// pot whose sign the marker-only scoring above got wrong (a joint that
+// moves its markers little, e.g. a wrist with markers close to its axes,
+// or a finger's last joint, which only the tendons spanning it see). Each
+// sign move, tried from the current estimate and refined by a few
+// alternations on the subsample, is kept if it lowers the cost clearly.
 bool WideBasin::recheckSigns(Estimate* est) const {
   QState ss;
   ss.q = subsampleAngles(est->state.q);
-  if (!someSensorMisfits(model_, est->theta, noise_, sub_, ss.q)) return false;
+  if (!someSensorMisfits(model_, withTendonsFitted(est->theta, sub_, ss), noise_, sub_, ss.q))
+    return false;
   bool flipped_any = false;
   double base = refinedCost(est->theta, ss);
   for (int sweep = 0; sweep < 2; ++sweep) {
     bool changed = false;
     for (const std::vector<int>& move : moves_) {
       if (touchesFixed(guesses_, move)) continue;
-      SensorParameters th = est->theta;
-      QState st = ss;
-      for (int i : move) flipSign(guesses_[i], &th, &st.q);
-      if (!(refinedCost(th, st) < 0.8 * base)) continue;
-      // Clearly better: keep it, on every frame.
-      for (int i : move) flipSign(guesses_[i], &est->theta, &est->state.q);
-      ss.q = subsampleAngles(est->state.q);
-      base = refinedCost(est->theta, ss);
+      // Moved on every frame, then scored on the subsample: a mirror is
+      // about its column's mean, which the subsample's would shift (by
+      // 0.05 rad on the basin test's hand, the refined costs then 4163
+      // and 17170), so what is scored is what would be kept.
+      Estimate moved = *est;
+      for (int i : move) flipSign(guesses_[i], &moved.theta, &moved.state.q);
+      QState st;
+      st.q = subsampleAngles(moved.state.q);
+      const double cost = refinedCost(moved.theta, st);
+      if (!(cost < 0.8 * base)) continue;
+      // Clearly better: keep it.
+      *est = std::move(moved);
+      base = cost;
       changed = flipped_any = true;
     }
     if (!changed) break;
@@ -394,17 +403,22 @@ RowMatrix WideBasin::subsampleAngles(const RowMatrix& q) const {
   return out;
 }
 
-// The whole cost at est, the tendons (not initialised yet) fitted to its q
-// first: two estimates whose markers and pots fit alike can differ there.
-double WideBasin::fullCost(const Estimate& est) const {
-  SensorParameters theta = est.theta;
-  QState state = est.state;
+SensorParameters WideBasin::withTendonsFitted(SensorParameters theta, const Observations& obs,
+                                              const QState& state) const {
   ThetaPhaseOptions tendons;
   tendons.threads = threads_;
   tendons.update[0] = tendons.update[1] = false;
   if (!model_.sensors().tendon_sensors.empty())
-    thetaPhase(model_, noise_, loss_, obs_, state, tendons, ws_, &theta);
-  return totalCost(model_, theta, noise_, loss_, obs_, FrameOptions(), threads_, ws_, &state);
+    thetaPhase(model_, noise_, loss_, obs, state, tendons, ws_, &theta);
+  return theta;
+}
+
+// The whole cost at est, the tendons (not initialised yet) fitted to its q
+// first: two estimates whose markers and pots fit alike can differ there.
+double WideBasin::fullCost(const Estimate& est) const {
+  QState state = est.state;
+  return totalCost(model_, withTendonsFitted(est.theta, obs_, state), noise_, loss_, obs_,
+                   FrameOptions(), threads_, ws_, &state);
 }
 
 SensorParameters WideBasin::run(QState* state) const {
@@ -418,9 +432,11 @@ SensorParameters WideBasin::run(QState* state) const {
   // as well is no reason to leave the sweeps' answer). Only where a marker
   // or the mocap frame is held: with every part free, mirror images of the
   // whole fit can be equally good, and a fit cannot choose between them.
+  // (Markers and pots: the tree-order search fits nothing else, and a
+  // tendon's misfit is the sign re-check's.)
   if (marker_group_free_ && !guesses_.empty() && gaugeHeld(model_.sensors()) &&
       someSensorMisfits(model_, est.theta, noise_, sub_, subsampleAngles(est.state.q),
-                        kRestartMisfit)) {
+                        kRestartMisfit, false)) {
     if (const auto tree = treeOrderMaps(model_, sub_, loss_, guesses_, seed_, threads_)) {
       Estimate alt = estimateFrom(&*tree, neutral);
       if (fullCost(alt) < kClearlyBetter * fullCost(est)) est = std::move(alt);

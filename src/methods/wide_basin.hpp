@@ -155,12 +155,13 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
 void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                const MinimumMove& move, SensorParameters* theta, RowMatrix* q,
                bool mirror_about_zero = false);
-// Whether some marker or pot fits clearly worse than its noise: its median
+// Whether some sensor fits clearly worse than its noise: its median
 // residual over the frames of obs more than `factor` times what Gaussian
-// noise of its σ gives.
+// noise of its σ gives; the tendons only with `tendons` (the marker-led
+// steps of the initialisation leave them at the seed).
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
-                       double factor = 2.0);
+                       double factor = 2.0, bool tendons = true);
 
 // A candidate's score and the subsample state it left.
 struct ScoredCandidate {
@@ -261,6 +262,10 @@ class WideBasin {
   RowMatrix subsampleAngles(const RowMatrix& q) const;
   // The cost of every sensor over obs at est, the tendons fitted first.
   double fullCost(const Estimate& est) const;
+  // theta with the tendons (which the marker-led steps leave at the seed)
+  // fitted in closed form to q of `state` (frames of obs).
+  SensorParameters withTendonsFitted(SensorParameters theta, const Observations& obs,
+                                     const QState& state) const;
   // The pots' group weight once they carry their guessed maps.
   double potWeight() const { return guesses_.empty() ? 0.0 : 1.0; }
 

@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "stac/simulate.hpp"
+
 namespace stac::test {
 
 std::string dataPath(const std::string& name) {
@@ -96,6 +98,21 @@ Eigen::VectorXd randomQ(const RobotModel& model, std::mt19937& rng) {
     double lo = model.lowerLimits()[i], hi = model.upperLimits()[i];
     if (!std::isfinite(lo) || !std::isfinite(hi)) lo = -M_PI, hi = M_PI;
     q[i] = std::uniform_real_distribution<double>(lo, hi)(rng);
+  }
+  return q;
+}
+
+RowMatrix partialSwings(const RobotModel& robot, RowMatrix q, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const std::vector<JointRange> ranges = motionRanges(robot);
+  for (int j = 0; j < robot.dof(); ++j) {
+    const double lo = ranges[j].lower, hi = ranges[j].upper;
+    if (!(hi > lo)) continue;
+    const double width = (0.2 + 0.2 * u(rng)) * (hi - lo);
+    const double start = lo + u(rng) * (hi - lo - width);
+    const double qmin = q.col(j).minCoeff(), qmax = q.col(j).maxCoeff();
+    if (!(qmax > qmin)) continue;
+    q.col(j) = ((q.col(j).array() - qmin) * (width / (qmax - qmin)) + start).matrix();
   }
   return q;
 }

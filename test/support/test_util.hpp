@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "stac/log.hpp"
 #include "stac/robot_model.hpp"
 
 namespace stac::test {
@@ -43,5 +44,10 @@ std::string readFile(const std::string& path);
 
 // Uniform q inside the joint limits (±pi where a joint has none).
 Eigen::VectorXd randomQ(const RobotModel& model, std::mt19937& rng);
+
+// Each joint of q (one row per frame) moved over a random 20-40% of its
+// range, off-centre: its column squeezed into a random sub-interval (the
+// issue's partial swings).
+RowMatrix partialSwings(const RobotModel& robot, RowMatrix q, std::mt19937_64& rng);
 
 }  // namespace stac::test
