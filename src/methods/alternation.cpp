@@ -281,7 +281,7 @@ Start startRun(const MethodInput& in, bool presolve, Workspaces* ws) {
 
 namespace {
 
-// A converged run is checked for a wrong minimum where some marker or pot's
+// A converged run is checked for a wrong minimum where some sensor's
 // median error is above this many times what its seed σ gives (a right one
 // fits at about 1; the wrist flips of the basin test's misses at 1.6-4).
 constexpr double kEscapeMisfit = 1.4;
@@ -330,7 +330,7 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
   for (int round = 0; round < kEscapes; ++round) {
     if (!loop.converged || loop.iterations >= in.options.max_iterations) break;
     if (!someSensorMisfits(problem.model, s->theta, problem.seed_noise, problem.obs, s->q.q,
-                           kEscapeMisfit) &&
+                           kEscapeMisfit, kEscapeMisfit) &&
         jointsOftenAtLimit(problem.model.robot(), s->q.q, kEscapeShareAtLimit).empty())
       break;
     Estimate est{s->theta, s->q};

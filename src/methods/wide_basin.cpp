@@ -29,6 +29,12 @@ constexpr double kInitPotWeight = 0.01;
 // converged can fit 2-3x), and its estimate replaces the first below this
 // share of the first's cost.
 constexpr double kRestartMisfit = 4.0;
+// The sign re-check's threshold for a tendon: at the start the angles are
+// fitted without the tendons, and a tendon's length sums the errors of
+// every joint it spans (humanoid38's sat above 2x with every sign right,
+// and the re-check then doubled the start's time), while a pot's wrong
+// sign shows at 8-10x in the tendons spanning its joint.
+constexpr double kStartTendonMisfit = 4.0;
 constexpr double kClearlyBetter = 0.8;
 // Frames of the candidate search and of the coupled re-check.
 constexpr int kSearchFrames = 150;
@@ -59,18 +65,20 @@ FrameOptions markersOnly() {
 // Misfit: a median residual over the frames more than `factor` times what
 // Gaussian noise of the sensor's σ gives (statistics.hpp). Medians, so that gross
 // outliers do not count: a sign chosen wrong shows in every frame. The
-// tendons too: a pot's sign chosen wrong on a joint that moves its markers
-// little (a finger's last joint) shows only in the tendons that span it.
+// tendons against their own factor (0: not checked): a pot's sign chosen
+// wrong on a joint that moves its markers little (a finger's last joint)
+// shows only in the tendons that span it.
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
-                       double factor, bool tendons) {
+                       double factor, double tendon_factor) {
   const auto errors = medianErrors(model, theta, obs, q, 1);
   for (SensorGroup g : {SensorGroup::kMarker, SensorGroup::kJoint, SensorGroup::kTendon}) {
     const int gi = static_cast<int>(g);
-    if (g == SensorGroup::kTendon && !tendons) continue;
+    const double k = g == SensorGroup::kTendon ? tendon_factor : factor;
+    if (k <= 0) continue;
     for (size_t i = 0; i < errors[gi].size(); ++i)
       if (errors[gi][i].count > 0 &&
-          errors[gi][i].median > factor * kMedianErrorInSigma[gi] * noise.sigma(g, static_cast<int>(i)))
+          errors[gi][i].median > k * kMedianErrorInSigma[gi] * noise.sigma(g, static_cast<int>(i)))
         return true;
   }
   return false;
@@ -284,7 +292,8 @@ double WideBasin::refinedCost(SensorParameters th, QState st) const {
 bool WideBasin::recheckSigns(Estimate* est) const {
   QState ss;
   ss.q = subsampleAngles(est->state.q);
-  if (!someSensorMisfits(model_, withTendonsFitted(est->theta, sub_, ss), noise_, sub_, ss.q))
+  if (!someSensorMisfits(model_, withTendonsFitted(est->theta, sub_, ss), noise_, sub_, ss.q, 2.0,
+                         kStartTendonMisfit))
     return false;
   bool flipped_any = false;
   double base = refinedCost(est->theta, ss);
@@ -436,7 +445,7 @@ SensorParameters WideBasin::run(QState* state) const {
   // tendon's misfit is the sign re-check's.)
   if (marker_group_free_ && !guesses_.empty() && gaugeHeld(model_.sensors()) &&
       someSensorMisfits(model_, est.theta, noise_, sub_, subsampleAngles(est.state.q),
-                        kRestartMisfit, false)) {
+                        kRestartMisfit, 0.0)) {
     if (const auto tree = treeOrderMaps(model_, sub_, loss_, guesses_, seed_, threads_)) {
       Estimate alt = estimateFrom(&*tree, neutral);
       if (fullCost(alt) < kClearlyBetter * fullCost(est)) est = std::move(alt);

@@ -157,11 +157,12 @@ void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                bool mirror_about_zero = false);
 // Whether some sensor fits clearly worse than its noise: its median
 // residual over the frames of obs more than `factor` times what Gaussian
-// noise of its σ gives; the tendons only with `tendons` (the marker-led
-// steps of the initialisation leave them at the seed).
+// noise of its σ gives; a tendon more than `tendon_factor` times (0: the
+// tendons not checked, e.g. where the marker-led steps of the
+// initialisation left them at the seed).
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
-                       double factor = 2.0, bool tendons = true);
+                       double factor = 2.0, double tendon_factor = 2.0);
 
 // A candidate's score and the subsample state it left.
 struct ScoredCandidate {
