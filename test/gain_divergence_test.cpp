@@ -1,15 +1,19 @@
 // A pot whose map starts with the wrong sign on a joint that few other
 // readings pin (hand24's middle finger's last joint, swung over 20-40% of
-// its range): its map can change sign only through an infinite gain, the
-// joint held still, so the alternation drifts that way for hundreds of
-// iterations and never converges. The run pauses once such a gain has
-// grown fourfold, mirrors the pot's start map, and goes on
-// (alternation.cpp iterateFromStart).
+// its range). The markers barely see it; the tendons spanning the joint
+// do, so the initialisation's sign re-check counts them (wide_basin.cpp
+// recheckSigns). Should a run start so anyway, the map can change sign
+// only through an infinite gain, the joint held still, and the alternation
+// drifts that way for hundreds of iterations without converging: the run
+// pauses once such a gain has grown fourfold, mirrors the pot's start map,
+// and goes on (alternation.cpp iterateFromStart).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
+#include "methods/wide_basin.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
@@ -66,6 +70,34 @@ TEST(GainDivergence, PotStartedMirroredIsTurnedBackNotFrozen) {
       << r.theta.joint_sensor[j].gain << " vs " << truth.gain;
   EXPECT_LT(std::abs(r.theta.joint_sensor[j].bias - truth.bias), 4 * sd.bias);
   EXPECT_FALSE(r.summary.suspect());
+}
+
+TEST(GainDivergence, SignRecheckSeesAWrongSignOnlyTheTendonsShow) {
+  const Hand h = partialSwingsHand(600, 5);
+  const int j = sensorIndex(h.truth.sensors, "middle_dip_pot");
+  ASSERT_GE(j, 0);
+  const MeasurementModel model(h.robot, h.truth.sensors);
+  const NoiseModel noise = NoiseModel::fromSeeds(h.truth.sensors);
+  const RobustLoss loss;
+  std::vector<FrameWorkspace> ws;
+  for (int i = 0; i < 2; ++i) ws.emplace_back(model);
+  // The truth as the marker-led start leaves it: tendons at the seed.
+  SensorParameters start = h.truth.theta;
+  for (GainBias& t : start.tendon_sensor) t = {1.0, 0.0};
+  const WideBasin basin(model, h.obs, noise, loss, 2, &ws, start, true);
+  Estimate est;
+  est.theta = start;
+  est.state.q = h.q;
+  const std::vector<PotGuess>& guesses = basin.guesses();
+  const auto g = std::find_if(guesses.begin(), guesses.end(),
+                              [&](const PotGuess& x) { return x.sensor == j; });
+  ASSERT_NE(g, guesses.end());
+  // The joint mirrored with its pot's map: the pot fits as before, and the
+  // markers hardly tell.
+  flipSign(*g, &est.theta, &est.state.q);
+  ASSERT_FALSE(someSensorMisfits(model, est.theta, noise, h.obs, est.state.q, 2.0, 0.0));
+  EXPECT_TRUE(basin.recheckSigns(&est));
+  EXPECT_GT(est.theta.joint_sensor[j].gain * h.truth.theta.joint_sensor[j].gain, 0.0);
 }
 
 }  // namespace
