@@ -131,7 +131,9 @@ CalibrationOptions parseOptions(const cli::Args& args) {
 std::function<void(const IterationReport&)> progressPrinter(bool quiet,
                                                             std::vector<IterationReport>* history) {
   return [quiet, history](const IterationReport& r) {
-    history->push_back(r);
+    // The verdict's check run (stage "check") is not the calibration's
+    // convergence: printed, not plotted.
+    if (r.stage != "check") history->push_back(r);
     if (quiet) return;
     char buf[256];
     int n = std::snprintf(buf, sizeof buf, "%-5s %4d  cost %-12.6g", r.stage.c_str(),

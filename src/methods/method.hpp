@@ -30,6 +30,9 @@ struct Outcome {
   double before_rms[kNumSensorGroups] = {0, 0, 0};
   double after_rms[kNumSensorGroups] = {0, 0, 0};  // PassStats::rms of the final pass
   UncertaintyResult uncertainty;
+  // A Huber run that set gross readings aside: the verdict reason when a
+  // run with Cauchy's loss disagrees (redescending_check.hpp); else empty.
+  std::string loss_disagreement;
 };
 
 using Clock = std::chrono::steady_clock;

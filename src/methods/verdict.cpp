@@ -195,6 +195,7 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, co
     why.push_back("the cost or the uncertainty of the result is not a number (NaN): a "
                   "numerical failure; the parameters cannot be trusted");
   checkJointOrigins(r.sensors, r.theta, &why);
+  if (!out.loss_disagreement.empty()) why.push_back(out.loss_disagreement);
   return why;
 }
 

@@ -1,0 +1,97 @@
+// The Huber/Cauchy cross-check (methods/redescending_check.hpp): a Huber
+// run that set gross readings aside is compared with a run under Cauchy's
+// redescending loss, and the verdict names the parameter where the two
+// disagree beyond kLossShiftStd of Huber's std.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <string>
+
+#include "methods/redescending_check.hpp"
+#include "stac/calibrate.hpp"
+#include "stac/measurement.hpp"
+#include "stac/sensors_file.hpp"
+#include "support/arm_files.hpp"
+#include "support/arm_fixture.hpp"
+
+namespace stac {
+namespace {
+
+struct Arm {
+  RobotModel robot = RobotModel::fromString(test::kArmUrdf, "arm4");
+  SensorsFile truth = parseSensorsYaml(test::kArmTruth, "arm4_truth", robot);
+  MeasurementModel model{robot, truth.sensors};
+};
+
+// Huber's outcome at the arm's truth, every free entry with std 0.01.
+Outcome huberAt(const Arm& a) {
+  Outcome out;
+  out.theta = a.truth.theta;
+  out.uncertainty.std = Eigen::VectorXd::Constant(a.model.thetaSpace().size(), 0.01);
+  return out;
+}
+
+TEST(RedescendingCheck, LargestShiftIsInStdOverFreeEntriesWithAFiniteStd) {
+  const Arm a;
+  const ThetaSpace& space = a.model.thetaSpace();
+  Outcome huber = huberAt(a);
+  const int gain = space.jointOffset(1), bias = space.jointOffset(2) + 1;
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(space.size());
+  d[gain] = 0.03;   // 3 std
+  d[bias] = -0.05;  // 5 std
+  const SensorParameters other = space.plus(a.truth.theta, d);
+  int which = -1;
+  EXPECT_NEAR(largestShiftInStd(space, huber.theta, other, huber.uncertainty.std, &which), 5.0,
+              1e-9);
+  EXPECT_EQ(which, bias);
+  // An infinite std (a direction the data do not determine) is no evidence.
+  huber.uncertainty.std[bias] = std::numeric_limits<double>::infinity();
+  EXPECT_NEAR(largestShiftInStd(space, huber.theta, other, huber.uncertainty.std, &which), 3.0,
+              1e-9);
+  EXPECT_EQ(which, gain);
+}
+
+TEST(RedescendingCheck, DisagreementBeyondTheThresholdNamesTheParameterAndTheRemedy) {
+  const Arm a;
+  const ThetaSpace& space = a.model.thetaSpace();
+  const Outcome huber = huberAt(a);
+  const int j = space.jointOffset(0);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(space.size());
+  d[j] = 0.01 * (kLossShiftStd - 0.5);
+  EXPECT_EQ(lossDisagreement(a.model, huber, space.plus(a.truth.theta, d)), "");
+  d[j] = 0.01 * (kLossShiftStd + 0.5);
+  const std::string why = lossDisagreement(a.model, huber, space.plus(a.truth.theta, d));
+  EXPECT_NE(why.find("3.5 std"), std::string::npos) << why;
+  EXPECT_NE(why.find(space.ownerPhrase(j)), std::string::npos) << why;
+  EXPECT_NE(why.find("--loss cauchy"), std::string::npos) << why;
+}
+
+// How many progress reports of a run come from the check's Cauchy run.
+int checkReports(const test::ArmProblem& p, const Observations& obs, LossKind loss,
+                 CalibrationResult* r) {
+  CalibrationOptions o;
+  o.threads = 2;
+  o.loss = loss;
+  int count = 0;
+  o.progress = [&](const IterationReport& report) { count += report.stage == "check"; };
+  *r = calibrate(p.robot, p.sensors, p.seed, obs, o);
+  return count;
+}
+
+// The check runs where Huber set gross readings aside, and only there; on
+// the arm, where Huber's fit with the set-aside reaches the truth, the two
+// fits agree and the verdict stays ok.
+TEST(RedescendingCheck, RunsWhereHuberSetReadingsAsideAndAgreesOnTheArm) {
+  test::ArmProblem p = test::makeArmProblem(500, 12);
+  const Observations clean = p.obs;
+  test::addOutliers(p.sensors, 0.05, 99, &p.obs);
+  CalibrationResult r;
+  EXPECT_GT(checkReports(p, p.obs, LossKind::kHuber, &r), 0);
+  EXPECT_TRUE(r.summary.verdict.empty()) << r.summary.verdict[0];
+  EXPECT_EQ(checkReports(p, clean, LossKind::kHuber, &r), 0);  // nothing set aside
+  EXPECT_EQ(checkReports(p, p.obs, LossKind::kCauchy, &r), 0);
+  EXPECT_TRUE(r.summary.verdict.empty());
+}
+
+}  // namespace
+}  // namespace stac
