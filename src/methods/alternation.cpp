@@ -457,20 +457,15 @@ std::string crossCheckWithCauchy(const MethodInput& in, const Outcome& huber) {
       c.stage = "check";
       in.options.progress(c);
     };
-  const Outcome other = runStac(MethodInput{redescending, in.seed, options, in.start, in.q0});
-  // Cauchy's loss is not convex: its run may end in another minimum that
-  // fits worse, which says nothing about Huber's (arm4 basin truth 1: 1737
-  // std apart). So only where Cauchy's end fits the problem its run solved
-  // (its loss at its σ) better than Huber's end does. That is conservative:
-  // with σ adapted neither run ends at its loss's exact minimum, and on
-  // arm4, where both reach the truth, Huber's end fitted better in 19 of 20
-  // truths; on the hand's biased Huber fits Cauchy's did.
-  Workspaces ws = makeWorkspaces(problem.model, problem.threads);
-  const double at_huber =
-      costPass(redescending, huber.theta, other.noise, huber.q, false, &ws).cost;
-  const double at_cauchy =
-      costPass(redescending, other.theta, other.noise, other.q, false, &ws).cost;
-  if (!(at_cauchy < at_huber)) return {};
+  const MethodInput check{redescending, in.seed, options, in.start, in.q0};
+  // Cauchy's loss is not convex: its run may end in a wrong minimum, which
+  // says nothing about Huber's (arm4 basin truth 1: 1737 std apart). So
+  // Huber's fit is judged only against a Cauchy fit that passes every check
+  // of its own. (Their costs do not tell: with σ adapted neither run ends at
+  // its loss's exact minimum, and where both reach the truth Huber's end
+  // often fits Cauchy's problem better than Cauchy's end does.)
+  const CalibrationResult other = makeResult(check, runStac(check), nullptr);
+  if (!other.summary.verdict.empty()) return {};
   return lossDisagreement(problem.model, huber, other.theta);
 }
 

@@ -10,10 +10,10 @@
 // 30% dropout: 1 of 20 truths reached under Huber, 8 silent misses; 16 of 20
 // with Cauchy's loss from the same seed, error RMS 1.05 std).
 // So a Huber run that found gross readings is checked against a run with
-// Cauchy's redescending loss from the same seed; if Cauchy's fits better by
-// its own loss (a non-convex loss may also end in a worse minimum, which
-// says nothing of Huber's) and the two disagree beyond kLossShiftStd of
-// Huber's reported std, the verdict says so and names the remedy (--loss
+// Cauchy's redescending loss from the same seed; if Cauchy's passes every
+// check of its own (a non-convex loss may also end in a wrong minimum,
+// which says nothing of Huber's) and the two disagree beyond kLossShiftStd
+// of Huber's reported std, the verdict says so and names the remedy (--loss
 // cauchy).
 #pragma once
 
