@@ -84,8 +84,14 @@ ArmProblem makeArmProblem(int frames, unsigned seed, double noise_scale, double 
     p.seed.marker_position.push_back(m.fixed ? d : Eigen::Vector3d::Zero());
   }
   s.mocap_sigma = 0.002;
-  p.truth.mocap.rotation =
-      Eigen::Quaterniond(Eigen::AngleAxisd(uni(-3, 3), Eigen::Vector3d::Random().normalized()));
+  // One fixed axis: it was drawn with Eigen's Random(), i.e. the C
+  // library's rand() and its process-wide state, so each call made another
+  // problem and a test's outcome depended on how many had run before it in
+  // the process (--gtest_repeat gave other results from the third
+  // repetition on). This is the axis a fresh process drew first, which
+  // every test run alone (as ctest runs them) has always used.
+  const Eigen::Vector3d axis(0.68037543430941905, -0.21123414636181392, 0.56619844751721171);
+  p.truth.mocap.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(uni(-3, 3), axis.normalized()));
   p.truth.mocap.translation = Eigen::Vector3d(uni(-1, 1), uni(-1, 1), uni(0, 1));
   // Smooth random motion inside the limits.
   p.q_true.resize(frames, r.dof());
