@@ -4,6 +4,7 @@
 // disagree beyond kLossShiftStd of Huber's std.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -58,12 +59,32 @@ TEST(RedescendingCheck, DisagreementBeyondTheThresholdNamesTheParameterAndTheRem
   const int j = space.jointOffset(0);
   Eigen::VectorXd d = Eigen::VectorXd::Zero(space.size());
   d[j] = 0.01 * (kLossShiftStd - 0.5);
-  EXPECT_EQ(lossDisagreement(a.model, huber, space.plus(a.truth.theta, d)), "");
+  EXPECT_EQ(lossDisagreement(a.model, huber, space.plus(a.truth.theta, d), {}), "");
   d[j] = 0.01 * (kLossShiftStd + 0.5);
-  const std::string why = lossDisagreement(a.model, huber, space.plus(a.truth.theta, d));
+  const std::string why = lossDisagreement(a.model, huber, space.plus(a.truth.theta, d), {});
   EXPECT_NE(why.find("3.5 std"), std::string::npos) << why;
   EXPECT_NE(why.find(space.ownerPhrase(j)), std::string::npos) << why;
   EXPECT_NE(why.find("--loss cauchy"), std::string::npos) << why;
+}
+
+// A bias Cauchy's result knows only modulo a turn (turn_ambiguity.hpp) is
+// the same fit a whole turn (2π·gain) away; only what is left counts.
+TEST(RedescendingCheck, ABiasKnownModuloATurnIsComparedModuloThatTurn) {
+  const Arm a;
+  const ThetaSpace& space = a.model.thetaSpace();
+  const Outcome huber = huberAt(a);
+  const int b = space.jointOffset(0) + 1;
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(space.size());
+  d[b] = 2 * M_PI * std::abs(a.truth.theta.joint_sensor[0].gain) + 0.01;  // a turn and 1 std
+  const SensorParameters cauchy = space.plus(a.truth.theta, d);
+  const std::string name = a.truth.sensors.joint_sensors[0].name;
+  EXPECT_NE(lossDisagreement(a.model, huber, cauchy, {}), "");
+  const UnidentifiableDirection turn{{"joint_sensors." + name + ".bias"},
+                                     name + "'s bias is known only modulo a turn"};
+  EXPECT_EQ(lossDisagreement(a.model, huber, cauchy, {turn}), "");
+  // Another reason (a trade-off) is no licence to compare modulo a turn.
+  const UnidentifiableDirection other{{"joint_sensors." + name + ".bias"}, "trades off"};
+  EXPECT_NE(lossDisagreement(a.model, huber, cauchy, {other}), "");
 }
 
 // How many progress reports of a run come from the check's Cauchy run.

@@ -459,14 +459,13 @@ std::string crossCheckWithCauchy(const MethodInput& in, const Outcome& huber) {
     };
   const MethodInput check{redescending, in.seed, options, in.start, in.q0};
   // Cauchy's loss is not convex: its run may end in a wrong minimum, which
-  // says nothing about Huber's (arm4 basin truth 1: 1737 std apart). So
-  // Huber's fit is judged only against a Cauchy fit that passes every check
-  // of its own. (Their costs do not tell: with σ adapted neither run ends at
+  // says nothing about Huber's. So Huber's fit is judged only against a
+  // Cauchy fit that passes every check of its own. (Their costs do not tell: with σ adapted neither run ends at
   // its loss's exact minimum, and where both reach the truth Huber's end
   // often fits Cauchy's problem better than Cauchy's end does.)
   const CalibrationResult other = makeResult(check, runStac(check), nullptr);
   if (!other.summary.verdict.empty()) return {};
-  return lossDisagreement(problem.model, huber, other.theta);
+  return lossDisagreement(problem.model, huber, other.theta, other.summary.unidentifiable);
 }
 
 }  // namespace

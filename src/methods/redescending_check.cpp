@@ -6,23 +6,37 @@
 namespace stac {
 
 double largestShiftInStd(const ThetaSpace& space, const SensorParameters& a,
-                         const SensorParameters& b, const Eigen::VectorXd& std, int* which) {
+                         const SensorParameters& b, const Eigen::VectorXd& std, int* which,
+                         const Eigen::VectorXd* period) {
   const Eigen::VectorXd d = space.minus(a, b);
   double largest = 0;
   *which = -1;
   for (int i : space.freeIndex()) {
     if (!(std[i] > 0) || !std::isfinite(std[i])) continue;
-    const double z = std::abs(d[i]) / std[i];
+    double di = d[i];
+    if (period && (*period)[i] > 0) di -= (*period)[i] * std::round(di / (*period)[i]);
+    const double z = std::abs(di) / std[i];
     if (z > largest) largest = z, *which = i;
   }
   return largest;
 }
 
 std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber,
-                             const SensorParameters& cauchy) {
+                             const SensorParameters& cauchy,
+                             const std::vector<UnidentifiableDirection>& cauchy_unidentifiable) {
   const ThetaSpace& space = model.thetaSpace();
+  // A bias Cauchy's result knows only modulo a turn (turn_ambiguity.hpp):
+  // a whole turn apart is the same fit.
+  Eigen::VectorXd period = Eigen::VectorXd::Zero(space.size());
+  for (const UnidentifiableDirection& u : cauchy_unidentifiable) {
+    if (u.reason.find("modulo a turn") == std::string::npos || u.parameters.empty()) continue;
+    for (int i = 0; i < space.size(); ++i)
+      if (space.names()[i] == u.parameters[0] && space.entry(i).block == ThetaBlock::kJointSensor)
+        period[i] = 2 * M_PI * std::abs(cauchy.joint_sensor[space.entry(i).item].gain);
+  }
   int which = -1;
-  const double z = largestShiftInStd(space, huber.theta, cauchy, huber.uncertainty.std, &which);
+  const double z =
+      largestShiftInStd(space, huber.theta, cauchy, huber.uncertainty.std, &which, &period);
   if (z <= kLossShiftStd) return {};
   char buf[96];
   std::snprintf(buf, sizeof buf, "%.3g", z);

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "methods/method.hpp"
 
@@ -33,13 +34,17 @@ namespace stac {
 constexpr double kLossShiftStd = 3.0;
 
 // The largest |a - b| over the free θ entries, in units of std (entries
-// with a zero or infinite std skipped); *which: that entry's index.
+// with a zero or infinite std skipped; an entry with a positive `period`
+// compared modulo it); *which: that entry's index.
 double largestShiftInStd(const ThetaSpace& space, const SensorParameters& a,
-                         const SensorParameters& b, const Eigen::VectorXd& std, int* which);
+                         const SensorParameters& b, const Eigen::VectorXd& std, int* which,
+                         const Eigen::VectorXd* period = nullptr);
 
 // The verdict reason when `huber`'s θ is more than kLossShiftStd of its std
-// from `cauchy`'s (empty: they agree).
+// from `cauchy`'s (empty: they agree); a bias that Cauchy's result lists as
+// known only modulo a turn is compared modulo that turn.
 std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber,
-                             const SensorParameters& cauchy);
+                             const SensorParameters& cauchy,
+                             const std::vector<UnidentifiableDirection>& cauchy_unidentifiable);
 
 }  // namespace stac
