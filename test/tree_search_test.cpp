@@ -142,6 +142,11 @@ TEST(TurnAmbiguity, NotForAHeldBiasOrLimitsWithinATurn) {
   const SensorsFile f = parseSensorsYaml(test::kArmTruth, "arm4", arm);
   const MeasurementModel arm_model(arm, f.sensors);
   EXPECT_TRUE(turnAmbiguities(arm_model, f.theta, RowMatrix::Zero(3, arm.dof())).empty());
+  // A motion a whole turn above arm4's limits (±1.5) "fits a turn lower",
+  // but it is no placement of the joint: a wrong minimum, not an ambiguity.
+  EXPECT_TRUE(
+      turnAmbiguities(arm_model, f.theta, RowMatrix::Constant(3, arm.dof(), 2 * M_PI + 0.5))
+          .empty());
 }
 
 // The whole calibration from the paper's seeding reaches the truth, up to

@@ -37,7 +37,12 @@ std::vector<UnidentifiableDirection> turnAmbiguities(const MeasurementModel& mod
     const int j = mj.q_index;
     if (!std::isfinite(lower[j]) || !std::isfinite(upper[j])) continue;
     const double qmin = q.col(j).minCoeff(), qmax = q.col(j).maxCoeff();
-    if (!std::isfinite(qmin) || !std::isfinite(qmax) ||
+    // A motion that itself leaves the limits is no placement of the joint
+    // at all: a wrong minimum, for the verdict's limit check, not an
+    // ambiguity (arm4, limits ±1.5: a pot map a turn off put the motion a
+    // turn above them, which "fits a turn lower", and was listed so, which
+    // also exempted the joint from the limit check).
+    if (!std::isfinite(qmin) || !std::isfinite(qmax) || qmin < lower[j] || qmax > upper[j] ||
         !fitsAnotherTurn(qmin, qmax, lower[j], upper[j]))
       continue;
     char buf[160];
