@@ -63,7 +63,12 @@ TEST(RedescendingCheck, DisagreementBeyondTheThresholdNamesTheParameterAndTheRem
   d[j] = 0.01 * (kLossShiftStd + 0.5);
   const std::string why = lossDisagreement(a.model, huber, space.plus(a.truth.theta, d), {});
   EXPECT_NE(why.find("3.5 std"), std::string::npos) << why;
-  EXPECT_NE(why.find(space.ownerPhrase(j)), std::string::npos) << why;
+  EXPECT_NE(why.find("on the " + space.ownerPhrase(j)), std::string::npos) << why;
+  // The mocap frame's phrase has its own article.
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(space.size());
+  r[ThetaSpace::kRotationOffset] = 0.05;
+  const std::string rotation = lossDisagreement(a.model, huber, space.plus(a.truth.theta, r), {});
+  EXPECT_NE(rotation.find("std on the mocap rotation:"), std::string::npos) << rotation;
   EXPECT_NE(why.find("--loss cauchy"), std::string::npos) << why;
 }
 

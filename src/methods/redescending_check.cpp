@@ -40,8 +40,9 @@ std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber
   if (z <= kLossShiftStd) return {};
   char buf[96];
   std::snprintf(buf, sizeof buf, "%.3g", z);
+  const std::string what = space.ownerPhrase(which);  // "the mocap rotation", "bias of p"
   return "Huber's loss and the redescending Cauchy loss (same seed, same scale) disagree by " +
-         std::string(buf) + " std on the " + space.ownerPhrase(which) +
+         std::string(buf) + " std on " + (what.rfind("the ", 0) == 0 ? "" : "the ") + what +
          ": gross readings bias Huber's fit here (a gross reading from the sensor that "
          "dominates its joint drags the frame's angle along); rerun with --loss cauchy";
 }
