@@ -289,6 +289,20 @@ constexpr double kEscapeMisfit = 1.4;
 // Jumps to a better minimum at most.
 constexpr int kEscapes = 2;
 
+// The alternation on from `st` (a pass at *s) for the iterations `in`
+// allows beyond the `done` already run; reported and counted on from there.
+LoopOutcome goOn(const Problem& problem, const MethodInput& in, int done, const PassStats& st,
+                 State* s, Workspaces* ws,
+                 const std::function<void(int, const PassStats&)>& report) {
+  CalibrationOptions rest = in.options;
+  rest.max_iterations -= done;
+  LoopOutcome more = stacIterations(
+      problem, rest, in.options.stac.coupled_steps, st, s, ws,
+      [&](int it, const PassStats& pass) { if (report) report(done + it, pass); });
+  more.iterations += done;
+  return more;
+}
+
 // The alternation on from `moved` (a state s was moved to from `before`,
 // the state `loop` ended in); its end is kept if it fits better at the σ
 // the run had (the adapted σ would hide the difference), or as well with
@@ -298,13 +312,8 @@ std::optional<LoopOutcome> goOnIfBetter(const MethodInput& in, const LoopOutcome
                                         State before, State* s, Workspaces* ws,
                                         const std::function<void(int, const PassStats&)>& report) {
   const Problem& problem = in.problem;
-  const int done = loop.iterations;
-  CalibrationOptions rest = in.options;
-  rest.max_iterations -= done;
-  LoopOutcome again = stacIterations(
-      problem, rest, in.options.stac.coupled_steps,
-      costPass(problem, s->theta, s->noise, s->q.q, false, ws), s, ws,
-      [&](int it, const PassStats& st) { if (report) report(done + it, st); });
+  LoopOutcome again = goOn(problem, in, loop.iterations,
+                           costPass(problem, s->theta, s->noise, s->q.q, false, ws), s, ws, report);
   const double was = costPass(problem, before.theta, before.noise, before.q.q, false, ws).cost;
   const double now = costPass(problem, s->theta, before.noise, s->q.q, false, ws).cost;
   const RobotModel& robot = problem.model.robot();
@@ -313,7 +322,6 @@ std::optional<LoopOutcome> goOnIfBetter(const MethodInput& in, const LoopOutcome
     *s = std::move(before);
     return std::nullopt;
   }
-  again.iterations += done;
   return again;
 }
 
@@ -399,13 +407,7 @@ LoopOutcome iterateFromStart(const MethodInput& in, const Start& start, State* s
   }
   if (std::optional<LoopOutcome> again = goOnIfBetter(in, loop, std::move(before), s, ws, report))
     return *again;
-  const int done = loop.iterations;
-  CalibrationOptions rest = in.options;
-  rest.max_iterations -= done;
-  LoopOutcome more = stacIterations(problem, rest, in.options.stac.coupled_steps, loop.st, s, ws,
-                                    [&](int it, const PassStats& st) { if (report) report(done + it, st); });
-  more.iterations += done;
-  return more;
+  return goOn(problem, in, loop.iterations, loop.st, s, ws, report);
 }
 
 // Under Huber's loss a gross reading still pulls with a constant force: on
@@ -429,43 +431,9 @@ Problem setGrossReadingsAside(const MethodInput& in, LoopOutcome* loop, State* s
   *kept = withoutGrossReadings(problem, s->theta, s->noise, s->q.q, &gross);
   if (gross == 0) return problem;
   const Problem without = problem.on(*kept);
-  const int done = loop->iterations;
-  CalibrationOptions rest = in.options;
-  rest.max_iterations -= done;
-  LoopOutcome again =
-      stacIterations(without, rest, in.options.stac.coupled_steps,
-                     costPass(without, s->theta, s->noise, s->q.q, false, ws), s, ws,
-                     [&](int it, const PassStats& st) { if (report) report(done + it, st); });
-  again.iterations += done;
-  *loop = std::move(again);
+  *loop = goOn(without, in, loop->iterations,
+               costPass(without, s->theta, s->noise, s->q.q, false, ws), s, ws, report);
   return without;
-}
-
-// The check of redescending_check.hpp: the whole run again from the same
-// seed with Cauchy's loss at the same scale; its progress reported as stage
-// "check".
-std::string crossCheckWithCauchy(const MethodInput& in, const Outcome& huber) {
-  const Problem& problem = in.problem;
-  const RobustLoss cauchy(LossKind::kCauchy, problem.loss.scale());
-  const Problem redescending{problem.model, problem.obs, problem.seed_noise, cauchy,
-                             problem.threads};
-  CalibrationOptions options = in.options;
-  options.loss = LossKind::kCauchy;
-  if (in.options.progress)
-    options.progress = [&](const IterationReport& r) {
-      IterationReport c = r;
-      c.stage = "check";
-      in.options.progress(c);
-    };
-  const MethodInput check{redescending, in.seed, options, in.start, in.q0};
-  // Cauchy's loss is not convex: its run may end in a wrong minimum, which
-  // says nothing about Huber's. So Huber's fit is judged only against a
-  // Cauchy fit that passes every check of its own. (Their costs do not tell: with σ adapted neither run ends at
-  // its loss's exact minimum, and where both reach the truth Huber's end
-  // often fits Cauchy's problem better than Cauchy's end does.)
-  const CalibrationResult other = makeResult(check, runStac(check), nullptr);
-  if (!other.summary.verdict.empty()) return {};
-  return lossDisagreement(problem.model, huber, other.theta, other.summary.unidentifiable);
 }
 
 }  // namespace

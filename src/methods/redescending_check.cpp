@@ -47,4 +47,29 @@ std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber
          "dominates its joint drags the frame's angle along); rerun with --loss cauchy";
 }
 
+std::string crossCheckWithCauchy(const MethodInput& in, const Outcome& huber) {
+  const Problem& problem = in.problem;
+  const RobustLoss cauchy(LossKind::kCauchy, problem.loss.scale());
+  const Problem redescending{problem.model, problem.obs, problem.seed_noise, cauchy,
+                             problem.threads};
+  CalibrationOptions options = in.options;
+  options.loss = LossKind::kCauchy;
+  if (in.options.progress)
+    options.progress = [&](const IterationReport& r) {
+      IterationReport c = r;
+      c.stage = "check";
+      in.options.progress(c);
+    };
+  const MethodInput check{redescending, in.seed, options, in.start, in.q0};
+  // Cauchy's loss is not convex: its run may end in a wrong minimum, which
+  // says nothing about Huber's. So Huber's fit is judged only against a
+  // Cauchy fit that passes every check of its own. (Their costs do not
+  // tell: with σ adapted neither run ends at its loss's exact minimum, and
+  // where both reach the truth Huber's end often fits Cauchy's problem
+  // better than Cauchy's end does.)
+  const CalibrationResult other = makeResult(check, runStac(check), nullptr);
+  if (!other.summary.verdict.empty()) return {};
+  return lossDisagreement(problem.model, huber, other.theta, other.summary.unidentifiable);
+}
+
 }  // namespace stac

@@ -47,4 +47,10 @@ std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber
                              const SensorParameters& cauchy,
                              const std::vector<UnidentifiableDirection>& cauchy_unidentifiable);
 
+// The check itself, for runStac's Huber run `in` that set gross readings
+// aside and ended in `huber`: the whole run again from the same seed with
+// Cauchy's loss at the same scale (its progress reported as stage
+// "check"); the verdict reason, or empty.
+std::string crossCheckWithCauchy(const MethodInput& in, const Outcome& huber);
+
 }  // namespace stac
