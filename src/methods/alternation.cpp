@@ -91,7 +91,7 @@ PassStats coupledIteration(const Problem& problem, bool adapt, double* lambda, S
     addGroupLeverage(w, &H[block], &Linv[block], lev[block].data());
   };
   coupledStep(problem.model, s->noise, problem.loss, problem.obs, problem.threads, ws, lambda,
-              &s->theta, &s->q, FrameOptions(), false, adapt ? visit : FrameVisitor());
+              &s->theta, &s->q, FrameOptions(), false, adapt ? visit : FrameVisitor(), true);
   PassStats st = costPass(problem, s->theta, s->noise, s->q.q, false, ws);
   for (const auto& block : lev)
     for (int g = 0; g < kNumSensorGroups; ++g) st.leverage[g] += block[g];

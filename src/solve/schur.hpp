@@ -59,12 +59,17 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
 // so that a joint cannot walk to its half-turn mirror (a joint turned by π
 // with its links' markers turned back fits as well); the main loop does not,
 // since a projected step stalls when a bad start leaves frames at the bounds.
-// `visit` sees every frame at the starting point (θ, q), once.
+// `visit` sees every frame at the starting point (θ, q), once. With
+// `refit_rejected` a trial the back-substituted q_t make worse is scored
+// again with every q_t refitted to its θ (a few LM steps; the .cpp says
+// why) before λ grows: the main loop's steps. The initialisation's searches
+// compare candidate starts by the cost a few plain steps reach and keep
+// them so.
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
                    SensorParameters* theta, QState* state,
                    const FrameOptions& groups = FrameOptions(), bool within_limits = false,
-                   const FrameVisitor& visit = nullptr);
+                   const FrameVisitor& visit = nullptr, bool refit_rejected = false);
 
 }  // namespace stac
