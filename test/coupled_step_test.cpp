@@ -5,8 +5,8 @@
 // q_t refitted to the trial's θ.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <random>
+#include <vector>
 
 #include "solve/q_phase.hpp"
 #include "solve/schur.hpp"
@@ -22,7 +22,7 @@ struct FarFrames {
   test::ArmProblem p = test::makeArmProblem(200, 3);
   MeasurementModel model{p.robot, p.sensors};
   NoiseModel noise = NoiseModel::fromSeeds(p.sensors);
-  std::vector<FrameWorkspace> ws{2, FrameWorkspace(model)};
+  std::vector<FrameWorkspace> ws = std::vector<FrameWorkspace>(2, FrameWorkspace(model));
   QState q;
   FarFrames() {
     std::mt19937 rng(7);
@@ -41,8 +41,10 @@ TEST(CoupledStep, FarFramesDoNotRaiseTheDamping) {
   const double before = f.cost(f.p.truth, &f.q);
   SensorParameters theta = f.p.truth;
   double lambda = 1e-4;
-  const double after = coupledStep(f.model, f.noise, RobustLoss(), f.p.obs, 2, &f.ws, &lambda,
-                                   &theta, &f.q, FrameOptions(), false, nullptr, true);
+  CoupledStepOptions refit;
+  refit.refit_rejected = true;
+  const double after =
+      coupledStep(f.model, f.noise, RobustLoss(), f.p.obs, 2, &f.ws, &lambda, &theta, &f.q, refit);
   // Accepted at the damping it was given (λ then falls), and the cost it
   // reports is that of the state it leaves.
   EXPECT_LT(after, 0.5 * before);

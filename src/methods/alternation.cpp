@@ -90,8 +90,11 @@ PassStats coupledIteration(const Problem& problem, bool adapt, double* lambda, S
     Linv[block].resize(Hqq.rows(), Hqq.cols());
     addGroupLeverage(w, &H[block], &Linv[block], lev[block].data());
   };
+  CoupledStepOptions step;
+  step.refit_rejected = true;
+  if (adapt) step.visit = visit;
   coupledStep(problem.model, s->noise, problem.loss, problem.obs, problem.threads, ws, lambda,
-              &s->theta, &s->q, FrameOptions(), false, adapt ? visit : FrameVisitor(), true);
+              &s->theta, &s->q, step);
   PassStats st = costPass(problem, s->theta, s->noise, s->q.q, false, ws);
   for (const auto& block : lev)
     for (int g = 0; g < kNumSensorGroups; ++g) st.leverage[g] += block[g];

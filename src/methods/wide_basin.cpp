@@ -17,6 +17,15 @@
 namespace stac {
 namespace {
 
+// The initialisation's coupled steps: over `groups`, every q_t kept within
+// its joints' widened limits (schur.hpp CoupledStepOptions).
+CoupledStepOptions withinLimits(const FrameOptions& groups) {
+  CoupledStepOptions o;
+  o.groups = groups;
+  o.within_limits = true;
+  return o;
+}
+
 // Global scales of the guessed maps below: the log covers 80%, 40%, 20% or
 // 10% of the joints' ranges.
 constexpr double kCoverageScales[] = {1.0, 0.5, 0.25, 0.125};
@@ -257,7 +266,7 @@ void WideBasin::alternate(double pot_weight, double tol, Estimate* est) const {
     // Coupled steps once the alternation stalls (they cost more).
     if (coupled_steps_ && prev > 0 && prev - c < 1e-2 * prev)
       c = coupledStep(model_, noise_, loss_, obs_, threads_, ws_, &est->coupled_lambda,
-                      &est->theta, &est->state, qo.eval, true);
+                      &est->theta, &est->state, withinLimits(qo.eval));
     if (prev > 0 && std::abs(prev - c) <= tol * prev) break;
     prev = c;
   }
@@ -278,7 +287,8 @@ double WideBasin::refinedCost(SensorParameters th, QState st) const {
   // Coupled steps converge in a few iterations where the alternation crawls.
   double lambda = 1e-3;
   for (int it = 0; it < 5; ++it)
-    c = coupledStep(model_, noise_, loss_, sub_, threads_, ws_, &lambda, &th, &st, qo.eval, true);
+    c = coupledStep(model_, noise_, loss_, sub_, threads_, ws_, &lambda, &th, &st,
+                    withinLimits(qo.eval));
   return c;
 }
 

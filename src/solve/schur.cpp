@@ -244,8 +244,9 @@ constexpr int kCurvatureFrames = 500;
 // 0.1-20 (the basin test's humanoid under 5% gross readings: the cost still
 // falling 1e-6 a step after 200 iterations, "not converged"). So a rejected
 // trial is scored again with every q_t refitted to its θ by a few LM steps:
-// the cost the θ step is meant to lower, its q_t profiled out. Returns that
-// cost; `trial` holds the refitted q_t.
+// the cost the θ step is meant to lower, its q_t profiled out. (The q-phase
+// keeps the refitted q_t in its box, as the alternation's q-phase does.)
+// Returns that cost; `trial` holds the refitted q_t.
 double refittedCost(const MeasurementModel& model, const SensorParameters& theta,
                     const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
                     const FrameOptions& groups, int threads, std::vector<FrameWorkspace>* ws,
@@ -263,8 +264,9 @@ double refittedCost(const MeasurementModel& model, const SensorParameters& theta
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
-                   SensorParameters* theta, QState* state, const FrameOptions& groups,
-                   bool within_limits, const FrameVisitor& visit, bool refit_rejected) {
+                   SensorParameters* theta, QState* state,
+                   const CoupledStepOptions& options) {
+  const FrameOptions& groups = options.groups;
   const int dof = model.dof();
   const int T = obs.num_frames;
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
@@ -291,7 +293,7 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
   for (int attempt = 0; attempt < 6; ++attempt) {
     // Every attempt starts from the same (θ, q): the visitor sees it once.
     const FrameVisitor none;
-    const FrameVisitor& first = attempt == 0 ? visit : none;
+    const FrameVisitor& first = attempt == 0 ? options.visit : none;
     ReducedSystem rs = reduceOntoTheta(model, *theta, noise, loss, sampled ? sample_obs : obs,
                                        sampled ? sample_q : state->q, *lambda, !sampled,
                                        threads, ws, groups, sampled ? none : first);
@@ -312,16 +314,16 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     const Eigen::VectorXd dfull = space.expandFree(dtheta);
     RowMatrix q_new = backSubstitute(model, *theta, noise, loss, obs, state->q, dfull,
                                            nf > 0, *lambda, groups,
-                                           within_limits ? &lower : nullptr, &upper, threads, ws);
+                                           options.within_limits ? &lower : nullptr, &upper, threads, ws);
     const SensorParameters theta_new = space.plus(*theta, dfull);
     QState trial;
     trial.q = q_new;
     double c = totalCost(model, theta_new, noise, loss, obs, groups, threads, ws, &trial) +
                originPriorCost(space, theta_new);
-    if (refit_rejected && !(c < old_cost)) {
+    if (options.refit_rejected && !(c < old_cost)) {
       c = refittedCost(model, theta_new, noise, loss, obs, groups, threads, ws, &trial) +
           originPriorCost(space, theta_new);
-      q_new = trial.q;
+      q_new = std::move(trial.q);
     }
     if (c < old_cost) {
       *theta = theta_new;

@@ -52,24 +52,33 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               const FrameVisitor& visit = nullptr,
                               Eigen::MatrixXd* score_outer = nullptr);
 
+// How a coupled step treats the frames (coupledStep below).
+struct CoupledStepOptions {
+  FrameOptions groups;  // which sensor groups count, with what weight
+  // Project every q_t onto the q-phase's box (q_phase.hpp widenedLimits):
+  // the initialisation uses it so that a joint cannot walk to its half-turn
+  // mirror (a joint turned by π with its links' markers turned back fits as
+  // well); the main loop does not, since a projected step stalls when a bad
+  // start leaves frames at the bounds.
+  bool within_limits = false;
+  // Score a trial that the back-substituted q_t make worse again with every
+  // q_t refitted to its θ (a few LM steps; the .cpp says why) before λ
+  // grows: the main loop's steps. The initialisation's searches compare
+  // candidate starts by the cost a few plain steps reach, and keep them so
+  // (a refit there let a mirrored finger joint that only tendons show score
+  // as well as its right sign).
+  bool refit_rejected = false;
+  // Sees every frame at the starting point (θ, q), once.
+  FrameVisitor visit;
+};
+
 // One coupled LM step on (q, θ): tries damping *lambda (adapting it) until
 // the total cost decreases; returns the new cost, or the old one (state
-// unchanged) if no damping helped. within_limits projects every q_t onto
-// the q-phase's box (q_phase.hpp widenedLimits): the initialisation uses it
-// so that a joint cannot walk to its half-turn mirror (a joint turned by π
-// with its links' markers turned back fits as well); the main loop does not,
-// since a projected step stalls when a bad start leaves frames at the bounds.
-// `visit` sees every frame at the starting point (θ, q), once. With
-// `refit_rejected` a trial the back-substituted q_t make worse is scored
-// again with every q_t refitted to its θ (a few LM steps; the .cpp says
-// why) before λ grows: the main loop's steps. The initialisation's searches
-// compare candidate starts by the cost a few plain steps reach and keep
-// them so.
+// unchanged) if no damping helped.
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    const RobustLoss& loss, const Observations& obs, int threads,
                    std::vector<FrameWorkspace>* ws, double* lambda,
                    SensorParameters* theta, QState* state,
-                   const FrameOptions& groups = FrameOptions(), bool within_limits = false,
-                   const FrameVisitor& visit = nullptr, bool refit_rejected = false);
+                   const CoupledStepOptions& options = CoupledStepOptions());
 
 }  // namespace stac
