@@ -45,13 +45,13 @@ TEST(JointLimits, JointsOftenAtALimitAreCountedFromThreeFramesAndAShare) {
   EXPECT_EQ(jointsOftenAtLimit(c.robot, q, 0.02), (std::vector<int>{1, 3}));
 }
 
-TEST(JointLimits, AWholeTurnOnlyWhereTheLimitsSpanMoreThanOne) {
+TEST(JointLimits, AWholeTurnWhereTheLimitsSpanMoreThanOneOrTheMotionLeavesThem) {
   const Chain c(4.0);
   const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
   const RobustLoss loss;
   Workspaces ws = makeWorkspaces(c.model, 2);
   const WideBasin basin(c.model, c.obs, noise, loss, 2, &ws, c.truth.theta, false);
-  const std::vector<MinimumMove> moves = wholeTurnMoves(c.robot, basin.guesses());
+  const std::vector<MinimumMove> moves = wholeTurnMoves(c.robot, basin.guesses(), c.q);
   ASSERT_EQ(moves.size(), 2u);  // j1 and j3, not j2 and j4 (±1.5)
   const std::vector<PotGuess>& guesses = basin.guesses();
   EXPECT_EQ(guesses[moves[0].whole_turn.at(0)].column, 0);
@@ -67,9 +67,15 @@ TEST(JointLimits, AWholeTurnOnlyWhereTheLimitsSpanMoreThanOne) {
     EXPECT_NEAR(q(t, 2), c.q(t, 2) - 2 * M_PI, 1e-12);
     EXPECT_NEAR(after.gain * q(t, 2) + after.bias, before.gain * c.q(t, 2) + before.bias, 1e-12);
   }
+  // j2's motion placed a turn below its limits (±1.5): its turn back too.
+  RowMatrix off = c.q;
+  off.col(1).array() -= 2 * M_PI;
+  const std::vector<MinimumMove> with_j2 = wholeTurnMoves(c.robot, basin.guesses(), off);
+  ASSERT_EQ(with_j2.size(), 3u);
+  EXPECT_EQ(guesses[with_j2[1].whole_turn.at(0)].column, 1);
   std::vector<PotGuess> held = basin.guesses();
   for (PotGuess& h : held) h.bias_held = true;
-  EXPECT_TRUE(wholeTurnMoves(c.robot, held).empty());
+  EXPECT_TRUE(wholeTurnMoves(c.robot, held, off).empty());
 }
 
 // Started a whole turn off on j3 (its pot's bias shifted by 2π·gain, its

@@ -473,6 +473,27 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAWristFlip) {
   EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
 }
 
+// j1's pot map a whole turn off, its motion with it: every angle a turn
+// below j1's limits (±1.5, less than a turn apart), every reading fitted
+// exactly as at the truth (the arm4/partial misses of the basin test, at
+// the truth's cost). The jump back into the limits is found.
+TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
+  ArmSetup s(arm(300));
+  const WideBasin wb = s.basin(s.p.seed);
+  Estimate est = atTheTruth(s.p);
+  const PotGuess& g = wb.guesses()[0];
+  ASSERT_EQ(g.column, 0);
+  ASSERT_LT(s.p.robot.upperLimits()[0] - s.p.robot.lowerLimits()[0], 2 * M_PI);
+  est.state.q.col(0).array() -= 2 * M_PI;
+  est.theta.joint_sensor[g.sensor].bias += 2 * M_PI * est.theta.joint_sensor[g.sensor].gain;
+  const auto jump = wb.jumpToBetterMinimum(&est);
+  ASSERT_TRUE(jump);
+  EXPECT_EQ(jump->whole_turn, std::vector<int>{0});
+  for (int j = 0; j < 4; ++j)
+    EXPECT_NEAR(est.theta.joint_sensor[j].bias, s.p.truth.joint_sensor[j].bias, 1e-9) << j;
+  EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
+}
+
 // ---- The whole initialisation ----
 
 TEST(WideBasinInitialisation, ArmFromThePapersSeedingLandsNearTheTruth) {

@@ -9,6 +9,7 @@
 
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
+#include "solve/q_phase.hpp"
 
 namespace stac {
 
@@ -195,14 +196,15 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 }
 
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
-                                        const std::vector<PotGuess>& guesses) {
+                                        const std::vector<PotGuess>& guesses, const RowMatrix& q) {
   std::vector<MinimumMove> moves;
+  const auto at_limit = atWidenedLimit(robot, q);
   for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
     const int j = guesses[i].column;
     const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
     const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type == JointType::kRevolute;
-    if (!guesses[i].bias_held && revolute && std::isfinite(span) && span > 2 * M_PI)
-      moves.push_back({{}, {}, {i}});
+    if (guesses[i].bias_held || !revolute || !std::isfinite(span)) continue;
+    if (span > 2 * M_PI || at_limit.col(j).any()) moves.push_back({{}, {}, {i}});
   }
   return moves;
 }

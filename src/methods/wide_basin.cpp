@@ -340,7 +340,7 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   double best = kBetterMinimum * base, within_cost = (1 + kSameFit) * base;
   std::optional<MinimumMove> chosen, within;
   std::vector<MinimumMove> moves = minimumMoves(guesses_, moves_);
-  for (MinimumMove& move : wholeTurnMoves(robot, guesses_)) moves.push_back(std::move(move));
+  for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
   for (const MinimumMove& move : moves) {
     SensorParameters theta = est->theta;
     QState moved = sub;
