@@ -204,7 +204,9 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
     const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
     const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type == JointType::kRevolute;
     if (guesses[i].bias_held || !revolute || !std::isfinite(span)) continue;
-    if (span > 2 * M_PI || at_limit.col(j).any()) moves.push_back({{}, {}, {i}});
+    // Narrower limits: where most frames' angles are at or beyond them
+    // (a few frames dragged there by gross readings are no turn off).
+    if (span > 2 * M_PI || 2 * at_limit.col(j).count() > q.rows()) moves.push_back({{}, {}, {i}});
   }
   return moves;
 }

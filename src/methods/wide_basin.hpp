@@ -146,9 +146,9 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
 // Each guess on a revolute joint with limits, a whole turn: the same
 // kinematics and pot predictions, but a log's motion placed a turn off
 // runs into the limits. Offered where the limits span more than a turn (a
-// UR arm's ±2π), or where some angle of q is at or beyond them (arm4's
-// ±1.5: a pot map a turn off put all the motion a turn above them, a
-// minimum of exactly the truth's cost). None that changes a held bias.
+// UR arm's ±2π), or where most of q's angles are at or beyond them
+// (arm4's ±1.5: a pot map a turn off put all the motion a turn above them,
+// a minimum of exactly the truth's cost). None that changes a held bias.
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses, const RowMatrix& q);
 // The move's mirrors are about each column's mean, or with
