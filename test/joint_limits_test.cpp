@@ -96,6 +96,27 @@ TEST(JointLimits, AConvergedRunFindsAWholeTurnBack) {
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }
 
+// Three pots' maps a whole turn off at once (j2 and j4, limits ±1.5
+// narrower than a turn, with every frame a turn below them; j3 as above):
+// each escape takes one jump, and the run finds all three back.
+TEST(JointLimits, AConvergedRunFindsThreeWholeTurnsBack) {
+  const Chain c(4.0);
+  SensorParameters start = c.truth.theta;
+  RowMatrix q0 = c.q;
+  for (int j : {1, 2, 3}) {
+    start.joint_sensor[j].bias += 2 * M_PI * start.joint_sensor[j].gain;
+    q0.col(j).array() -= 2 * M_PI;
+  }
+  CalibrationOptions o;
+  o.threads = 2;
+  const CalibrationResult r = calibrate(c.robot, c.truth.sensors, start, c.obs, o, nullptr, &q0);
+  for (int j : {1, 2, 3}) {
+    const GainBias& truth = c.truth.theta.joint_sensor[j];
+    EXPECT_NEAR(r.theta.joint_sensor[j].bias, truth.bias, 4 * r.std.joint_sensor[j].bias) << j;
+  }
+  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
+}
+
 // A URDF whose j3 limits (±0.8) are narrower than the motion logged (j3
 // over [-1, 2.5]): the calibration holds j3 at its limit in most frames and
 // says so.
