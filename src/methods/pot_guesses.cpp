@@ -9,7 +9,7 @@
 
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
-#include "solve/q_phase.hpp"
+#include "methods/verdict.hpp"
 
 namespace stac {
 
@@ -198,15 +198,17 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses, const RowMatrix& q) {
   std::vector<MinimumMove> moves;
-  const auto at_limit = atWidenedLimit(robot, q);
+  // Narrower limits: where most frames' angles are at or beyond them (a
+  // few frames dragged there by gross readings are no turn off).
+  const std::vector<int> mostly_at_limit = jointsOftenAtLimit(robot, q, 0.5);
   for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
     const int j = guesses[i].column;
     const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
     const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type == JointType::kRevolute;
     if (guesses[i].bias_held || !revolute || !std::isfinite(span)) continue;
-    // Narrower limits: where most frames' angles are at or beyond them
-    // (a few frames dragged there by gross readings are no turn off).
-    if (span > 2 * M_PI || 2 * at_limit.col(j).count() > q.rows()) moves.push_back({{}, {}, {i}});
+    if (span > 2 * M_PI ||
+        std::find(mostly_at_limit.begin(), mostly_at_limit.end(), j) != mostly_at_limit.end())
+      moves.push_back({{}, {}, {i}});
   }
   return moves;
 }

@@ -312,9 +312,9 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                                           : Eigen::VectorXd();
     if (!dtheta.allFinite()) return old_cost;
     const Eigen::VectorXd dfull = space.expandFree(dtheta);
-    RowMatrix q_new = backSubstitute(model, *theta, noise, loss, obs, state->q, dfull,
-                                           nf > 0, *lambda, groups,
-                                           options.within_limits ? &lower : nullptr, &upper, threads, ws);
+    RowMatrix q_new = backSubstitute(model, *theta, noise, loss, obs, state->q, dfull, nf > 0,
+                                     *lambda, groups, options.within_limits ? &lower : nullptr,
+                                     &upper, threads, ws);
     const SensorParameters theta_new = space.plus(*theta, dfull);
     QState trial;
     trial.q = q_new;
