@@ -92,6 +92,7 @@ PassStats coupledIteration(const Problem& problem, bool adapt, double* lambda, S
   };
   CoupledStepOptions step;
   step.refit_rejected = true;
+  step.inverse_charts = true;
   if (adapt) step.visit = visit;
   coupledStep(problem.model, s->noise, problem.loss, problem.obs, problem.threads, ws, lambda,
               &s->theta, &s->q, step);

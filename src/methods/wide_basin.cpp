@@ -26,6 +26,14 @@ CoupledStepOptions withinLimits(const FrameOptions& groups) {
   return o;
 }
 
+// The same, with dominated pots in their inverse chart (pot_chart.hpp):
+// the initial alternation's steps, not the candidates' scoring (schur.hpp
+// CoupledStepOptions::inverse_charts says why).
+CoupledStepOptions inverseCharts(CoupledStepOptions o) {
+  o.inverse_charts = true;
+  return o;
+}
+
 // Global scales of the guessed maps below: the log covers 80%, 40%, 20% or
 // 10% of the joints' ranges.
 constexpr double kCoverageScales[] = {1.0, 0.5, 0.25, 0.125};
@@ -266,7 +274,7 @@ void WideBasin::alternate(double pot_weight, double tol, Estimate* est) const {
     // Coupled steps once the alternation stalls (they cost more).
     if (coupled_steps_ && prev > 0 && prev - c < 1e-2 * prev)
       c = coupledStep(model_, noise_, loss_, obs_, threads_, ws_, &est->coupled_lambda,
-                      &est->theta, &est->state, withinLimits(qo.eval));
+                      &est->theta, &est->state, inverseCharts(withinLimits(qo.eval)));
     if (prev > 0 && std::abs(prev - c) <= tol * prev) break;
     prev = c;
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "solve/lm_damping.hpp"
+#include "solve/pot_chart.hpp"
 #include "solve/origin_prior.hpp"
 #include "solve/parallel.hpp"
 
@@ -39,7 +40,7 @@ void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
                  const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
                  const Eigen::VectorXd& qt, int t, const std::vector<int>& free_of,
                  FrameWorkspace* w, FrameSystem* fs, Eigen::MatrixXd* S, Eigen::VectorXd* gt,
-                 double* cost, const FrameOptions& groups) {
+                 Eigen::VectorXd* D, double* cost, const FrameOptions& groups) {
   FrameOptions eo = groups;
   eo.jacobians = true;
   eo.theta_jacobians = true;
@@ -56,6 +57,10 @@ void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
       for (size_t a = 0; a < cols.size(); ++a) fs->Hqt(cols[a], fb) += rj.Jq.col(a).head(rj.rows).dot(jb);
     }
     if (S) accumulateThetaNormalEquations(rj, free_of, S, gt);
+    for (int b = 0; b < rj.theta_count; ++b) {
+      const int fb = free_of[rj.theta_index[b]];
+      if (fb >= 0) (*D)[fb] += rj.Jtheta.col(b).head(rj.rows).squaredNorm();
+    }
   }
 }
 
@@ -77,6 +82,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
   const std::vector<int>& free_of = space.freePosition();
   std::vector<Eigen::MatrixXd> bS(kBlocks, Eigen::MatrixXd::Zero(nf, nf)), bH(kBlocks);
   std::vector<Eigen::VectorXd> bg(kBlocks, Eigen::VectorXd::Zero(nf));
+  std::vector<Eigen::VectorXd> bD(kBlocks, Eigen::VectorXd::Zero(nf));
   std::vector<Eigen::MatrixXd> bB(score_outer ? kBlocks : 0, Eigen::MatrixXd::Zero(nf, nf));
   std::vector<double> bcost(kBlocks, 0.0);
   const bool need_y = with_gradient || score_outer;
@@ -104,7 +110,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
       if (score_outer) g_frame.setZero();
       Eigen::VectorXd* g_theta = score_outer ? &g_frame : with_gradient ? &bg[block] : nullptr;
       frameSystem(model, theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, &S, g_theta,
-                  &bcost[block], groups);
+                  &bD[block], &bcost[block], groups);
       if (visit) visit(block, (*ws)[tid], fs.Hqq);
       dampQ(lambda, &fs.Hqq);
       Eigen::LLT<Eigen::MatrixXd> llt(fs.Hqq);
@@ -122,9 +128,11 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
   });
   out.S = Eigen::MatrixXd::Zero(nf, nf);
   out.g = Eigen::VectorXd::Zero(nf);
+  out.unreduced_diag = Eigen::VectorXd::Zero(nf);
   for (int b = 0; b < kBlocks; ++b) {
     out.S += bS[b];
     out.g += bg[b];
+    out.unreduced_diag += bD[b];
     out.cost += bcost[b];
   }
   if (score_outer) {
@@ -132,11 +140,9 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
     for (const Eigen::MatrixXd& b : bB) *score_outer += b;
     *score_outer = score_outer->selfadjointView<Eigen::Lower>();
   }
-  // bS accumulated H_θθ (lower) minus the eliminated part; recover diag(H_θθ)
-  // for damping from a cheap second look is unnecessary: LM on the reduced
-  // system damps S's own diagonal instead (a standard choice).
+  // bS accumulated H_θθ (lower) minus the eliminated part. LM on the
+  // reduced system damps S's own diagonal (a standard choice).
   out.S = out.S.selfadjointView<Eigen::Lower>();
-  out.H_diag = out.S.diagonal();
   return out;
 }
 
@@ -299,23 +305,29 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                                        threads, ws, groups, sampled ? none : first);
     if (sampled) {
       rs.S *= scale;
-      rs.H_diag *= scale;
+      rs.unreduced_diag *= scale;
       rs.g = reducedGradient(model, *theta, noise, loss, obs, state->q, *lambda, free_of, nf,
                              threads, ws, groups, first, &rs.cost);
     }
     addOriginPrior(space, *theta, &rs.S, &rs.g);  // MAP: the same posterior as every solver
     rs.cost += originPriorCost(space, *theta);
     if (old_cost < 0) old_cost = rs.cost;
+    // Pots that dominate their joint move in their inverse chart
+    // (pot_chart.hpp), damped there.
+    const PotCharts charts = options.inverse_charts
+                                 ? PotCharts(space, *theta, rs.S, rs.unreduced_diag)
+                                 : PotCharts(space);
+    charts.toChart(&rs.S, &rs.g);
     Eigen::MatrixXd A = rs.S;
-    addDamping(*lambda, rs.S, &A);  // rs.S's diagonal is rs.H_diag
-    const Eigen::VectorXd dtheta = nf > 0 ? Eigen::VectorXd(A.ldlt().solve(-rs.g))
+    addDamping(*lambda, rs.S, &A);
+    const Eigen::VectorXd dchart = nf > 0 ? Eigen::VectorXd(A.ldlt().solve(-rs.g))
                                           : Eigen::VectorXd();
-    if (!dtheta.allFinite()) return old_cost;
-    const Eigen::VectorXd dfull = space.expandFree(dtheta);
+    if (!dchart.allFinite()) return old_cost;
+    const Eigen::VectorXd dfull = space.expandFree(charts.linearStep(dchart));
     RowMatrix q_new = backSubstitute(model, *theta, noise, loss, obs, state->q, dfull, nf > 0,
                                      *lambda, groups, options.within_limits ? &lower : nullptr,
                                      &upper, threads, ws);
-    const SensorParameters theta_new = space.plus(*theta, dfull);
+    const SensorParameters theta_new = charts.retract(*theta, dchart);
     QState trial;
     trial.q = q_new;
     double c = totalCost(model, theta_new, noise, loss, obs, groups, threads, ws, &trial) +

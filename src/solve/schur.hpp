@@ -26,7 +26,7 @@ struct ReducedSystem {
   std::vector<int> free_index;    // θ entry of each reduced row
   Eigen::MatrixXd S;              // H_θθ - Σ H_θq (H_qq + λD)⁻¹ H_qθ (+ λ diag)
   Eigen::VectorXd g;              // g_θ - Σ H_θq (H_qq + λD)⁻¹ g_q
-  Eigen::VectorXd H_diag;         // diag(H_θθ) before damping
+  Eigen::VectorXd unreduced_diag; // diag(H_θθ): before the q_t are eliminated
   double cost = 0;                // ½ Σ ρ at the linearisation point
 };
 
@@ -68,6 +68,13 @@ struct CoupledStepOptions {
   // (a refit there let a mirrored finger joint that only tendons show score
   // as well as its right sign).
   bool refit_rejected = false;
+  // Move each pot that dominates its joint's angle in its inverse chart
+  // (pot_chart.hpp): the main loop's steps. The initialisation's searches
+  // keep (gain, bias): they score a candidate sign by the cost a few steps
+  // reach, and in the inverse chart a few steps also carry the other
+  // candidate through a still joint, so the two no longer differ (a
+  // finger's sign that only the tendons show went unrighted).
+  bool inverse_charts = false;
   // Sees every frame at the starting point (θ, q), once.
   FrameVisitor visit;
 };
