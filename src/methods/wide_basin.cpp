@@ -281,7 +281,7 @@ void WideBasin::alternate(double pot_weight, double tol, Estimate* est) const {
 }
 
 // A candidate's worth: the cost after a few alternations on the subsample.
-double WideBasin::refinedCost(SensorParameters th, QState st) const {
+double WideBasin::refinedCost(SensorParameters th, QState st, bool inverse_charts) const {
   QPhaseOptions qo;
   qo.method = QPhaseMethod::kLmIter;
   qo.threads = threads_;
@@ -294,9 +294,10 @@ double WideBasin::refinedCost(SensorParameters th, QState st) const {
   }
   // Coupled steps converge in a few iterations where the alternation crawls.
   double lambda = 1e-3;
+  const CoupledStepOptions step =
+      inverse_charts ? inverseCharts(withinLimits(qo.eval)) : withinLimits(qo.eval);
   for (int it = 0; it < 5; ++it)
-    c = coupledStep(model_, noise_, loss_, sub_, threads_, ws_, &lambda, &th, &st,
-                    withinLimits(qo.eval));
+    c = coupledStep(model_, noise_, loss_, sub_, threads_, ws_, &lambda, &th, &st, step);
   return c;
 }
 
@@ -342,7 +343,7 @@ bool WideBasin::recheckSigns(Estimate* est) const {
 std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   QState sub;
   sub.q = subsampleAngles(est->state.q);
-  const double base = refinedCost(est->theta, sub);
+  const double base = refinedCost(est->theta, sub, true);
   const RobotModel& robot = model_.robot();
   const auto at_limit = atWidenedLimit(robot, sub.q);
   double best = kBetterMinimum * base, within_cost = (1 + kSameFit) * base;
@@ -359,7 +360,7 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
       const int j = guesses_[i].column;
       relieves |= atWidenedLimit(robot, moved.q).col(j).count() < at_limit.col(j).count();
     }
-    const double cost = refinedCost(std::move(theta), std::move(moved));
+    const double cost = refinedCost(std::move(theta), std::move(moved), true);
     if (cost < best) {
       best = cost, chosen = move;
     } else if (relieves && cost <= within_cost) {

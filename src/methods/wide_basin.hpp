@@ -260,7 +260,7 @@ class WideBasin {
 
  private:
   // The cost after a few alternations and coupled steps on the subsample.
-  double refinedCost(SensorParameters theta, QState state) const;
+  double refinedCost(SensorParameters theta, QState state, bool inverse_charts = false) const;
   // Rows sub_frames_ of q (every frame of obs).
   RowMatrix subsampleAngles(const RowMatrix& q) const;
   // The cost of every sensor over obs at est, the tendons fitted first.
