@@ -27,8 +27,12 @@ CoupledStepOptions withinLimits(const FrameOptions& groups) {
 }
 
 // The same, with dominated pots in their inverse chart (pot_chart.hpp):
-// the initial alternation's steps, not the candidates' scoring (schur.hpp
-// CoupledStepOptions::inverse_charts says why).
+// the escape's scoring of jumps from a converged run. The initial
+// alternation and the sign re-check keep (gain, bias): in the chart the
+// re-check's few steps carry either sign to the same place (schur.hpp
+// CoupledStepOptions::inverse_charts), and the initial alternation in the
+// chart sent a ur5 with continuous joints (basin truth 1) to a wrong
+// minimum, the wrist_2 pot's gain 0.58 off, that it reaches without.
 CoupledStepOptions inverseCharts(CoupledStepOptions o) {
   o.inverse_charts = true;
   return o;
@@ -274,7 +278,7 @@ void WideBasin::alternate(double pot_weight, double tol, Estimate* est) const {
     // Coupled steps once the alternation stalls (they cost more).
     if (coupled_steps_ && prev > 0 && prev - c < 1e-2 * prev)
       c = coupledStep(model_, noise_, loss_, obs_, threads_, ws_, &est->coupled_lambda,
-                      &est->theta, &est->state, inverseCharts(withinLimits(qo.eval)));
+                      &est->theta, &est->state, withinLimits(qo.eval));
     if (prev > 0 && std::abs(prev - c) <= tol * prev) break;
     prev = c;
   }

@@ -69,11 +69,12 @@ struct CoupledStepOptions {
   // as well as its right sign).
   bool refit_rejected = false;
   // Move each pot that dominates its joint's angle in its inverse chart
-  // (pot_chart.hpp): the main loop's steps. The initialisation's searches
-  // keep (gain, bias): they score a candidate sign by the cost a few steps
-  // reach, and in the inverse chart a few steps also carry the other
-  // candidate through a still joint, so the two no longer differ (a
-  // finger's sign that only the tendons show went unrighted).
+  // (pot_chart.hpp): the main loop's steps, and the escape's scoring of
+  // jumps. The initialisation's sign re-check keeps (gain, bias): it scores
+  // a candidate sign by the cost a few steps reach, and in the inverse
+  // chart a few steps also carry the other candidate through a still
+  // joint, so the two no longer differ (a finger's sign that only the
+  // tendons show went unrighted).
   bool inverse_charts = false;
   // Sees every frame at the starting point (θ, q), once.
   FrameVisitor visit;
