@@ -26,18 +26,6 @@ CoupledStepOptions withinLimits(const FrameOptions& groups) {
   return o;
 }
 
-// The same, with dominated pots in their inverse chart (pot_chart.hpp):
-// the escape's scoring of jumps from a converged run. The initial
-// alternation and the sign re-check keep (gain, bias): in the chart the
-// re-check's few steps carry either sign to the same place (schur.hpp
-// CoupledStepOptions::inverse_charts), and the initial alternation in the
-// chart sent a ur5 with continuous joints (basin truth 1) to a wrong
-// minimum, the wrist_2 pot's gain 0.58 off, that it reaches without.
-CoupledStepOptions inverseCharts(CoupledStepOptions o) {
-  o.inverse_charts = true;
-  return o;
-}
-
 // Global scales of the guessed maps below: the log covers 80%, 40%, 20% or
 // 10% of the joints' ranges.
 constexpr double kCoverageScales[] = {1.0, 0.5, 0.25, 0.125};
@@ -285,7 +273,7 @@ void WideBasin::alternate(double pot_weight, double tol, Estimate* est) const {
 }
 
 // A candidate's worth: the cost after a few alternations on the subsample.
-double WideBasin::refinedCost(SensorParameters th, QState st, bool inverse_charts) const {
+double WideBasin::refinedCost(SensorParameters th, QState st, PotSteps pots) const {
   QPhaseOptions qo;
   qo.method = QPhaseMethod::kLmIter;
   qo.threads = threads_;
@@ -298,8 +286,8 @@ double WideBasin::refinedCost(SensorParameters th, QState st, bool inverse_chart
   }
   // Coupled steps converge in a few iterations where the alternation crawls.
   double lambda = 1e-3;
-  const CoupledStepOptions step =
-      inverse_charts ? inverseCharts(withinLimits(qo.eval)) : withinLimits(qo.eval);
+  CoupledStepOptions step = withinLimits(qo.eval);
+  step.inverse_charts = pots == PotSteps::kInverseCharts;
   for (int it = 0; it < 5; ++it)
     c = coupledStep(model_, noise_, loss_, sub_, threads_, ws_, &lambda, &th, &st, step);
   return c;
@@ -347,7 +335,7 @@ bool WideBasin::recheckSigns(Estimate* est) const {
 std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   QState sub;
   sub.q = subsampleAngles(est->state.q);
-  const double base = refinedCost(est->theta, sub, true);
+  const double base = refinedCost(est->theta, sub, PotSteps::kInverseCharts);
   const RobotModel& robot = model_.robot();
   const auto at_limit = atWidenedLimit(robot, sub.q);
   double best = kBetterMinimum * base, within_cost = (1 + kSameFit) * base;
@@ -364,7 +352,7 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
       const int j = guesses_[i].column;
       relieves |= atWidenedLimit(robot, moved.q).col(j).count() < at_limit.col(j).count();
     }
-    const double cost = refinedCost(std::move(theta), std::move(moved), true);
+    const double cost = refinedCost(std::move(theta), std::move(moved), PotSteps::kInverseCharts);
     if (cost < best) {
       best = cost, chosen = move;
     } else if (relieves && cost <= within_cost) {

@@ -259,8 +259,17 @@ class WideBasin {
   std::vector<MinimumMove> equivalentMoves(const Estimate& est) const;
 
  private:
+  // How refinedCost's coupled steps move the pots' maps. The escape's
+  // scoring of jumps steps dominated pots in their inverse chart
+  // (pot_chart.hpp); the sign re-check keeps (gain, bias): in the chart its
+  // few steps carry either sign to the same place (schur.hpp
+  // CoupledStepOptions::inverse_charts). The initial alternation keeps
+  // (gain, bias) too: in the chart it sent a ur5 with continuous joints
+  // (basin truth 1) to a wrong minimum, the wrist_2 pot's gain 0.58 off.
+  enum class PotSteps { kGainBias, kInverseCharts };
   // The cost after a few alternations and coupled steps on the subsample.
-  double refinedCost(SensorParameters theta, QState state, bool inverse_charts = false) const;
+  double refinedCost(SensorParameters theta, QState state,
+                     PotSteps pots = PotSteps::kGainBias) const;
   // Rows sub_frames_ of q (every frame of obs).
   RowMatrix subsampleAngles(const RowMatrix& q) const;
   // The cost of every sensor over obs at est, the tendons fitted first.

@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "solve/lm_damping.hpp"
-#include "solve/pot_chart.hpp"
 #include "solve/origin_prior.hpp"
 #include "solve/parallel.hpp"
+#include "solve/pot_chart.hpp"
 
 namespace stac {
 
@@ -57,6 +57,7 @@ void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
       for (size_t a = 0; a < cols.size(); ++a) fs->Hqt(cols[a], fb) += rj.Jq.col(a).head(rj.rows).dot(jb);
     }
     if (S) accumulateThetaNormalEquations(rj, free_of, S, gt);
+    if (!D) continue;
     for (int b = 0; b < rj.theta_count; ++b) {
       const int fb = free_of[rj.theta_index[b]];
       if (fb >= 0) (*D)[fb] += rj.Jtheta.col(b).head(rj.rows).squaredNorm();
@@ -72,7 +73,8 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               const Observations& obs, const RowMatrix& q, double lambda,
                               bool with_gradient, int threads,
                               std::vector<FrameWorkspace>* ws, const FrameOptions& groups,
-                              const FrameVisitor& visit, Eigen::MatrixXd* score_outer) {
+                              const FrameVisitor& visit, Eigen::MatrixXd* score_outer,
+                              Eigen::VectorXd* unreduced_diag) {
   ReducedSystem out;
   const ThetaSpace& space = model.thetaSpace();
   out.free_index = space.freeIndex();
@@ -82,7 +84,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
   const std::vector<int>& free_of = space.freePosition();
   std::vector<Eigen::MatrixXd> bS(kBlocks, Eigen::MatrixXd::Zero(nf, nf)), bH(kBlocks);
   std::vector<Eigen::VectorXd> bg(kBlocks, Eigen::VectorXd::Zero(nf));
-  std::vector<Eigen::VectorXd> bD(kBlocks, Eigen::VectorXd::Zero(nf));
+  std::vector<Eigen::VectorXd> bD(unreduced_diag ? kBlocks : 0, Eigen::VectorXd::Zero(nf));
   std::vector<Eigen::MatrixXd> bB(score_outer ? kBlocks : 0, Eigen::MatrixXd::Zero(nf, nf));
   std::vector<double> bcost(kBlocks, 0.0);
   const bool need_y = with_gradient || score_outer;
@@ -110,7 +112,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
       if (score_outer) g_frame.setZero();
       Eigen::VectorXd* g_theta = score_outer ? &g_frame : with_gradient ? &bg[block] : nullptr;
       frameSystem(model, theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, &S, g_theta,
-                  &bD[block], &bcost[block], groups);
+                  unreduced_diag ? &bD[block] : nullptr, &bcost[block], groups);
       if (visit) visit(block, (*ws)[tid], fs.Hqq);
       dampQ(lambda, &fs.Hqq);
       Eigen::LLT<Eigen::MatrixXd> llt(fs.Hqq);
@@ -128,12 +130,14 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
   });
   out.S = Eigen::MatrixXd::Zero(nf, nf);
   out.g = Eigen::VectorXd::Zero(nf);
-  out.unreduced_diag = Eigen::VectorXd::Zero(nf);
   for (int b = 0; b < kBlocks; ++b) {
     out.S += bS[b];
     out.g += bg[b];
-    out.unreduced_diag += bD[b];
     out.cost += bcost[b];
+  }
+  if (unreduced_diag) {
+    unreduced_diag->setZero(nf);
+    for (const Eigen::VectorXd& b : bD) *unreduced_diag += b;
   }
   if (score_outer) {
     score_outer->setZero(nf, nf);
@@ -300,12 +304,14 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     // Every attempt starts from the same (θ, q): the visitor sees it once.
     const FrameVisitor none;
     const FrameVisitor& first = attempt == 0 ? options.visit : none;
+    Eigen::VectorXd unreduced_diag;  // for the pots' charts
+    Eigen::VectorXd* D = options.inverse_charts ? &unreduced_diag : nullptr;
     ReducedSystem rs = reduceOntoTheta(model, *theta, noise, loss, sampled ? sample_obs : obs,
                                        sampled ? sample_q : state->q, *lambda, !sampled,
-                                       threads, ws, groups, sampled ? none : first);
+                                       threads, ws, groups, sampled ? none : first, nullptr, D);
     if (sampled) {
       rs.S *= scale;
-      rs.unreduced_diag *= scale;
+      if (D) *D *= scale;
       rs.g = reducedGradient(model, *theta, noise, loss, obs, state->q, *lambda, free_of, nf,
                              threads, ws, groups, first, &rs.cost);
     }
@@ -314,9 +320,7 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     if (old_cost < 0) old_cost = rs.cost;
     // Pots that dominate their joint move in their inverse chart
     // (pot_chart.hpp), damped there.
-    const PotCharts charts = options.inverse_charts
-                                 ? PotCharts(space, *theta, rs.S, rs.unreduced_diag)
-                                 : PotCharts(space);
+    const PotCharts charts = D ? PotCharts(space, *theta, rs.S, *D) : PotCharts(space);
     charts.toChart(&rs.S, &rs.g);
     Eigen::MatrixXd A = rs.S;
     addDamping(*lambda, rs.S, &A);

@@ -26,7 +26,6 @@ struct ReducedSystem {
   std::vector<int> free_index;    // θ entry of each reduced row
   Eigen::MatrixXd S;              // H_θθ - Σ H_θq (H_qq + λD)⁻¹ H_qθ (+ λ diag)
   Eigen::VectorXd g;              // g_θ - Σ H_θq (H_qq + λD)⁻¹ g_q
-  Eigen::VectorXd unreduced_diag; // diag(H_θθ): before the q_t are eliminated
   double cost = 0;                // ½ Σ ρ at the linearisation point
 };
 
@@ -42,7 +41,9 @@ using FrameVisitor =
 
 // With score_outer, also Σ_t g̃_t g̃_tᵀ over the frames, g̃_t being frame t's
 // share of the reduced gradient g (its θ score with q_t profiled out): the
-// "meat" of a sandwich covariance (uncertainty.hpp).
+// "meat" of a sandwich covariance (uncertainty.hpp). With unreduced_diag,
+// also diag(H_θθ), before the q_t are eliminated (pot_chart.hpp reads how
+// much of a gain's curvature the q_t take).
 ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParameters& theta,
                               const NoiseModel& noise, const RobustLoss& loss,
                               const Observations& obs, const RowMatrix& q, double lambda,
@@ -50,7 +51,8 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
                               std::vector<FrameWorkspace>* ws,
                               const FrameOptions& groups = FrameOptions(),
                               const FrameVisitor& visit = nullptr,
-                              Eigen::MatrixXd* score_outer = nullptr);
+                              Eigen::MatrixXd* score_outer = nullptr,
+                              Eigen::VectorXd* unreduced_diag = nullptr);
 
 // How a coupled step treats the frames (coupledStep below).
 struct CoupledStepOptions {
