@@ -14,7 +14,9 @@
 // again from its truth and prints both fits, per sensor (a wrong minimum
 // fits worse; a miss that fits as well is a std too small);
 // STAC_BASIN_LOSS=cauchy runs the outlier rows under Cauchy's loss instead
-// of Huber's; STAC_BASIN_TRACE=1 prints every iteration's cost and RMS.
+// of Huber's; STAC_BASIN_TRACE=1 prints every iteration's cost and RMS;
+// STAC_BASIN_NO_SCREEN=1 fits the outlier rows without setting spikes in
+// time aside first (spike_screen.hpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -253,6 +255,7 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
     CalibrationOptions o;
     o.threads = 2;
     if (v == Variant::kOutliers) o.loss = outlierLoss();
+    if (std::getenv("STAC_BASIN_NO_SCREEN")) o.screen_spikes = false;  // to measure the screen
     if (std::getenv("STAC_BASIN_TRACE"))  // each iteration's cost and RMS, to stderr
       o.progress = [](const IterationReport& r) {
         std::fprintf(stderr, "    %-5s %3d cost %.9g rms %.4g %.4g %.4g\n", r.stage.c_str(),

@@ -91,6 +91,9 @@ struct CalibrationOptions {
   LossKind loss = LossKind::kNone;
   double loss_scale = 3.0;     // in units of σ
   bool adapt_variance = true;  // one σ per sensor group re-estimated (not kEkf)
+  // With a robust loss: readings that stand out of their neighbours in time
+  // are set aside before the fit (summary.spikes_set_aside).
+  bool screen_spikes = true;
   int max_downweighted = 20;   // readings listed in the summary
   std::function<void(const IterationReport&)> progress;
   // Cancellation (e.g. a front end's Ctrl-C flag): polled before every

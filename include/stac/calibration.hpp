@@ -66,6 +66,9 @@ struct CalibrationSummary {
   std::vector<UnidentifiableDirection> unidentifiable;
   std::vector<OriginDetermination> origins;  // one per corrected joint with free parts
   std::vector<DownweightedReading> downweighted;
+  // Readings set aside before the fit as spikes in time (robust loss only:
+  // solve/spike_screen.hpp), per group.
+  int spikes_set_aside[kNumSensorGroups] = {0, 0, 0};
   // The result's own checks (SPEC §3 summary.verdict): empty when it passed
   // them ("ok"), else one sentence per failed check. stac_calib exits 4 on a
   // non-empty verdict.

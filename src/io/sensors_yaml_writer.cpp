@@ -284,6 +284,9 @@ void summary(std::string& o, const CalibrationSummary& sm) {
   unidentifiable(o, sm.unidentifiable);
   originDetermination(o, sm.origins);
   downweighted(o, sm.downweighted);
+  const int* spikes = sm.spikes_set_aside;
+  o += "  spikes_set_aside: {marker: " + std::to_string(spikes[0]) +
+       ", joint: " + std::to_string(spikes[1]) + ", tendon: " + std::to_string(spikes[2]) + "}\n";
   if (sm.verdict.empty()) {
     o += "  verdict: ok\n";
     return;

@@ -60,6 +60,10 @@ std::string diagnostics(const CalibrationSummary& s) {
       o << "\n";
     }
   }
+  const int* spikes = s.spikes_set_aside;
+  if (spikes[0] + spikes[1] + spikes[2] > 0)
+    o << "\nreadings set aside before the fit as spikes in time: " << spikes[0] << " marker, "
+      << spikes[1] << " joint, " << spikes[2] << " tendon\n";
   if (!s.downweighted.empty()) {
     o << "\nreadings the robust loss down-weighted most (frame, sensor, weight):\n";
     for (const DownweightedReading& d : s.downweighted) {

@@ -2,12 +2,14 @@
 // (method.hpp) and builds its result.
 #include "stac/calibrate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "methods/method.hpp"
 #include "stac/error.hpp"
 #include "solve/parallel.hpp"
+#include "solve/spike_screen.hpp"
 
 namespace stac {
 
@@ -76,15 +78,25 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   const MeasurementModel model(robot, sensors);
   const NoiseModel seed_noise = NoiseModel::fromSeeds(sensors);
   const RobustLoss loss(options.loss, options.loss_scale);
-  const Problem problem{model, obs, seed_noise, loss, resolveThreads(options.threads)};
+  // A robust loss asks for gross readings to be expected: those that stand
+  // out in time are set aside before anything is fitted (spike_screen.hpp).
+  const bool screened = loss.enabled() && options.screen_spikes;
+  SpikeScreen screen;
+  if (screened) screen = screenSpikes(obs, seed_noise);
+  const Problem problem{model, screened ? screen.kept : obs, seed_noise, loss,
+                        resolveThreads(options.threads)};
   const MethodInput in{problem, seed, options, start, q0};
-  switch (options.method) {
-    case Method::kStac: return makeResult(in, runStac(in), joint_angles);
-    case Method::kMonolithic: return makeResult(in, runMonolithic(in), joint_angles);
-    case Method::kEkf: return makeResult(in, runEkf(in), joint_angles);
-    case Method::kClassical: return makeResult(in, runClassical(in), joint_angles);
-  }
-  throw std::invalid_argument("unknown method");
+  CalibrationResult r = [&] {
+    switch (options.method) {
+      case Method::kStac: return makeResult(in, runStac(in), joint_angles);
+      case Method::kMonolithic: return makeResult(in, runMonolithic(in), joint_angles);
+      case Method::kEkf: return makeResult(in, runEkf(in), joint_angles);
+      case Method::kClassical: return makeResult(in, runClassical(in), joint_angles);
+    }
+    throw std::invalid_argument("unknown method");
+  }();
+  std::copy(screen.set_aside, screen.set_aside + kNumSensorGroups, r.summary.spikes_set_aside);
+  return r;
 }
 
 CalibrationResult calibrateFromSource(const std::string& sensors_source, const RobotModel& robot,
