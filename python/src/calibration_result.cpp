@@ -106,7 +106,11 @@ py::dict summaryDict(const CalibrationSummary& s) {
                   "rms_before"_a = perGroup(s, s.before_rms),
                   "rms_after"_a = perGroup(s, s.after_rms),
                   "unidentifiable"_a = unidentifiableList(s), "downweighted"_a = downweighted,
-                  "joint_origins"_a = originsList(s), "verdict"_a = s.verdict);
+                  "joint_origins"_a = originsList(s),
+                  "spikes_set_aside"_a = py::dict("marker"_a = s.spikes_set_aside[0],
+                                                  "joint"_a = s.spikes_set_aside[1],
+                                                  "tendon"_a = s.spikes_set_aside[2]),
+                  "verdict"_a = s.verdict);
 }
 
 std::string yamlOf(const Calibration& c) {

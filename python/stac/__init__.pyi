@@ -120,6 +120,7 @@ class Summary(TypedDict):
     unidentifiable: List[_Unidentifiable]
     downweighted: List[Dict[str, Any]]
     joint_origins: List[Dict[str, Any]]  # per corrected joint: 'joint', 'determined', 'on_prior'
+    spikes_set_aside: Dict[str, int]  # per group, before the fit (robust loss only)
     verdict: List[str]
 
 class Progress(TypedDict):

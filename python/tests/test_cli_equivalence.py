@@ -116,3 +116,20 @@ def test_evaluate_equals_stac_eval(tmp_path, hand24, hand24_log):
     expected = json.loads(js.read_text())
     assert {k: v for k, v in r.items() if k not in ("report", "joint_angles")} == expected
     assert r["joint_angles"].shape == (log.frames, robot.dof)
+
+
+def test_huber_reports_the_spikes_it_set_aside(gimbal2):
+    """Under a robust loss the readings set aside as spikes in time before the
+    fit are counted per group, in the summary dict and the written file."""
+    robot, seed, _ = gimbal2
+    truth = stac.read_sensors(str(DATA / "gimbal2_truth.yaml"), robot)
+    sim = stac.simulate(robot, truth, 400, seed=5, outliers=0.05)
+    result = stac.calibrate(robot, seed, sim["log"], loss="huber", threads=1)
+    spikes = result.summary["spikes_set_aside"]
+    assert set(spikes) == {"marker", "joint", "tendon"}
+    gross = len(sim["outliers"])
+    assert 0.8 * gross <= sum(spikes.values()) <= gross
+    assert ("  spikes_set_aside: {marker: %d, joint: %d, tendon: %d}"
+            % (spikes["marker"], spikes["joint"], spikes["tendon"])) in result.to_yaml()
+    plain = stac.calibrate(robot, seed, sim["log"], threads=1)
+    assert sum(plain.summary["spikes_set_aside"].values()) == 0
