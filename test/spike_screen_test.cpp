@@ -97,6 +97,24 @@ TEST(SpikeScreen, AStillSensorsSpikesAreFoundAndItsTicksAreNot) {
   EXPECT_TRUE(flagged(columnSpikes(ticks, kSigma)).empty());
 }
 
+// 20 frames of a fast swing dropped mid-log: by index the motion jumps
+// there (4 good readings flagged); the log's time says how far apart the
+// frames around the gap are.
+TEST(SpikeScreen, AGapInTimeIsNoSpikeWhereTheLogHasTimes) {
+  std::mt19937 rng(12);
+  std::normal_distribution<double> noise(0, kSigma);
+  Eigen::VectorXd x(600);
+  std::vector<double> time;
+  for (int t = 0, k = 0; t < 620; ++t) {
+    if (t >= 300 && t < 320) continue;
+    const double s = t / 100.0;
+    x[k++] = 1.2 * std::sin(3.9 * s) + 0.4 * std::sin(9.3 * s + 1) + noise(rng);
+    time.push_back(s);
+  }
+  EXPECT_FALSE(flagged(columnSpikes(x, kSigma)).empty());  // by index: the gap
+  EXPECT_TRUE(flagged(columnSpikes(x, kSigma, time)).empty());
+}
+
 TEST(SpikeScreen, TooShortALogIsLeftAlone) {
   Eigen::VectorXd x;
   smoothWithSpikes(600, 1, &x);

@@ -47,6 +47,7 @@ std::vector<double> medianDeviations(const Eigen::Ref<const Eigen::VectorXd>& x)
 // if all on one side): unbiased on smooth motion, not robust, hence the
 // skip.
 std::vector<double> parabolaDeviations(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                       const std::vector<double>& at,
                                        const std::vector<bool>& skip) {
   const int n = static_cast<int>(x.size());
   std::vector<double> d(n, kNan);
@@ -58,7 +59,7 @@ std::vector<double> parabolaDeviations(const Eigen::Ref<const Eigen::VectorXd>& 
       int count = 0, before = 0, after = 0;
       for (int k = std::max(0, t - half); k <= std::min(n - 1, t + half); ++k) {
         if (k == t || !std::isfinite(x[k]) || skip[k]) continue;
-        const double u = k - t;
+        const double u = at[k] - at[t];
         const Eigen::Vector3d f(1, u, u * u);
         A += f * f.transpose();
         b += f * x[k];
@@ -74,6 +75,23 @@ std::vector<double> parabolaDeviations(const Eigen::Ref<const Eigen::VectorXd>& 
   return d;
 }
 
+// Where each frame lies on the parabolas' axis: its time in units of the
+// median frame interval where the log has strictly increasing times (a gap
+// of dropped frames is then as wide as it was), else its index.
+std::vector<double> framePositions(const std::vector<double>& time, int n) {
+  std::vector<double> at(n);
+  for (int t = 0; t < n; ++t) at[t] = t;
+  if (static_cast<int>(time.size()) != n || n < 2) return at;
+  std::vector<double> dt;
+  for (int t = 1; t < n; ++t) {
+    if (!(time[t] > time[t - 1])) return at;
+    dt.push_back(time[t] - time[t - 1]);
+  }
+  const double step = median(&dt);
+  for (int t = 0; t < n; ++t) at[t] = (time[t] - time[0]) / step;
+  return at;
+}
+
 // 1.4826 × the median |v| over the finite entries, and their count.
 std::pair<double, int> robustScale(const std::vector<double>& v) {
   std::vector<double> a;
@@ -84,8 +102,10 @@ std::pair<double, int> robustScale(const std::vector<double>& v) {
 
 }  // namespace
 
-std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, double sigma) {
+std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, double sigma,
+                               const std::vector<double>& time) {
   const int n = static_cast<int>(x.size());
+  const std::vector<double> at = framePositions(time, n);
   std::vector<bool> spike(n, false);
   // Candidates first, by the robust median and a low bound; they only stop
   // being neighbours in the parabola's fit, so a good reading among them
@@ -95,7 +115,7 @@ std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, doubl
   std::vector<bool> candidate(n, false);
   for (int t = 0; t < n; ++t)
     candidate[t] = std::isfinite(d0[t]) && std::abs(d0[t]) > kCandidateScales * std::max(scale0, sigma);
-  std::vector<double> d = parabolaDeviations(x, candidate);
+  std::vector<double> d = parabolaDeviations(x, at, candidate);
   const auto [scale, verdicts] = robustScale(d);
   if (verdicts < kMinScreenedFrames) return spike;
   std::vector<double> values;
@@ -112,7 +132,7 @@ std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, doubl
   // Again without the spikes found as neighbours: one the candidates missed
   // may have bent a good reading's parabola.
   for (int t = 0; t < n; ++t) candidate[t] = candidate[t] || spike[t];
-  d = parabolaDeviations(x, candidate);
+  d = parabolaDeviations(x, at, candidate);
   for (int t = 0; t < n; ++t) spike[t] = std::isfinite(d[t]) && std::abs(d[t]) > bound;
   return spike;
 }
@@ -124,7 +144,7 @@ SpikeScreen screenSpikes(const Observations& obs, const NoiseModel& seed) {
   auto scalar = [&](RowMatrix* m, const std::vector<double>& sigma, SensorGroup g) {
     for (int c = 0; c < m->cols(); ++c) {
       const Eigen::VectorXd col = m->col(c);
-      const std::vector<bool> spike = columnSpikes(col, sigma[c]);
+      const std::vector<bool> spike = columnSpikes(col, sigma[c], obs.time);
       for (int t = 0; t < m->rows(); ++t)
         if (spike[t]) (*m)(t, c) = nan, ++out.set_aside[static_cast<int>(g)];
     }
@@ -136,7 +156,7 @@ SpikeScreen screenSpikes(const Observations& obs, const NoiseModel& seed) {
     std::vector<bool> any(markers.rows(), false);
     for (int i = 0; i < 3; ++i) {
       const Eigen::VectorXd col = markers.col(3 * m + i);
-      const std::vector<bool> spike = columnSpikes(col, seed.marker[m]);
+      const std::vector<bool> spike = columnSpikes(col, seed.marker[m], obs.time);
       for (int t = 0; t < markers.rows(); ++t) any[t] = any[t] || spike[t];
     }
     for (int t = 0; t < markers.rows(); ++t)

@@ -19,8 +19,8 @@
 // most a tenth of the column's own robust spread, or at most 3 seed σ (a
 // sensor that hardly moves), so that a log of independent static postures
 // is left alone; and with at least kMinScreenedFrames frames to measure it
-// on. Rows are taken in
-// log order. A marker reading (3 columns) is set aside whole when any of
+// on. Rows are taken in log order, spaced by the log's time where it has
+// one. A marker reading (3 columns) is set aside whole when any of
 // its coordinates is.
 #pragma once
 
@@ -39,8 +39,9 @@ struct SpikeScreen {
 
 SpikeScreen screenSpikes(const Observations& obs, const NoiseModel& seed);
 
-// The spikes of one column (NaN = missing): true where set aside. Exposed
-// for its tests.
-std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, double sigma);
+// The spikes of one column (NaN = missing): true where set aside. `time`:
+// the log's (empty: none). Exposed for its tests.
+std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, double sigma,
+                               const std::vector<double>& time = {});
 
 }  // namespace stac
