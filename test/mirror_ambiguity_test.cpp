@@ -56,6 +56,45 @@ TEST(MirrorAmbiguity, TheWristFlipFitsAlikeWithTheMiddleMarkersFree) {
   EXPECT_EQ(same[0].half_turn, (std::vector<int>{0, 2}));
 }
 
+// The same chain with j2 straight at π (its origin turned half a turn about
+// its axis, its limits π ± 1.5), as the Kinova Jaco's wrist joint 5: the
+// mirror is q2 -> 2π − q2, within the limits, where −q2 is not (it was
+// missed, and four of ten random Jaco truths ended in the flip, silent).
+TEST(MirrorAmbiguity, AJointStraightAtHalfATurnMirrorsAboutIt) {
+  std::string urdf = test::chainUrdf();
+  const std::string j2 =
+      R"(<origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5")";
+  ASSERT_NE(urdf.find(j2), std::string::npos);
+  urdf.replace(urdf.find(j2), j2.size(),
+               R"(<origin xyz="0 0 0.1" rpy="0 3.141592653589793 0"/><axis xyz="0 1 0"/>)"
+               R"(<limit lower="1.6415926535897931" upper="4.6415926535897931")");
+  const RobotModel robot = RobotModel::fromString(urdf, "chain4");
+  const SensorsFile truth = parseSensorsYaml(test::chainTruthYaml(false), "chain truth", robot);
+  const MeasurementModel model(robot, truth.sensors);
+  std::mt19937_64 rng(3);
+  RowMatrix q = simulateMotion(robot, 400, 100.0, rng);
+  for (int c : {0, 2}) {  // j1 and j3 over [-0.5, 0.7]: half a turn away fits too
+    const double lo = q.col(c).minCoeff(), hi = q.col(c).maxCoeff();
+    q.col(c) = ((q.col(c).array() - lo) * (1.2 / (hi - lo)) - 0.5).matrix();
+  }
+  ASSERT_GT(q.col(1).minCoeff(), 1.6);  // j2 near π, as its limits say
+  SimulationOptions so;
+  so.frames = 400;
+  const Observations obs =
+      bindLog(simulateLog(model, truth.theta, q, so, rng).log, truth.sensors, "chain", 1.0);
+  const NoiseModel noise = NoiseModel::fromSeeds(truth.sensors);
+  const RobustLoss loss;
+  Workspaces ws = makeWorkspaces(model, 2);
+  const WideBasin basin(model, obs, noise, loss, 2, &ws, truth.theta, false);
+  Estimate est;
+  est.theta = truth.theta;
+  est.state.q = q;
+  const std::vector<MinimumMove> same = basin.equivalentMoves(est);
+  ASSERT_EQ(same.size(), 1u);
+  EXPECT_EQ(same[0].flip, std::vector<int>{1});
+  EXPECT_EQ(same[0].half_turn, (std::vector<int>{0, 2}));
+}
+
 TEST(MirrorAmbiguity, ACalibrationListsIt) {
   const CalibrationResult r = calibrateFromTheTruth(Chain(false));
   EXPECT_TRUE(listsTheMirror(r.summary.unidentifiable));

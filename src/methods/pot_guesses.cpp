@@ -170,8 +170,8 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
 
 // p = g q + b = (-g) (2c - q) + (b + 2 g c); about c = 0 where the bias is
 // held, so that it stays.
-void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q, bool about_zero) {
-  const double c = g.bias_held || about_zero ? 0.0 : q->col(g.column).mean();
+void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+  const double c = g.bias_held ? 0.0 : q->col(g.column).mean();
   q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
   GainBias& gb = theta->joint_sensor[g.sensor];
   gb.bias += 2.0 * gb.gain * c;
@@ -237,10 +237,39 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   return moves;
 }
 
+namespace {
+// Mirrors column g.column about a whole number of half turns c = kπ, the
+// one that keeps the mirrored motion nearest the middle of the joint's
+// limits (k = 0 without limits), and flips its pot's map to match. A
+// revolute joint's kinematics repeat every turn, so a chain's mirror
+// configuration about the joint's zero is one about every kπ with k even,
+// and about π with k odd where the aligned axes meet at π: the Kinova
+// Jaco's wrist (joint 5 limited to [0.52, 5.76], straight at π) flips to
+// 2π − q5, which lies within them, where −q5 does not.
+void flipAboutTurns(const RobotModel& robot, const PotGuess& g, SensorParameters* theta,
+                    RowMatrix* q) {
+  const double mid = 0.5 * (robot.lowerLimits()[g.column] + robot.upperLimits()[g.column]);
+  const bool revolute =
+      robot.movableJoints()[robot.qJoints()[g.column]].type != JointType::kPrismatic;
+  double c = 0;
+  if (revolute && std::isfinite(mid) && !g.bias_held)
+    c = M_PI * std::round((mid + q->col(g.column).mean()) / (2 * M_PI));
+  q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
+  GainBias& gb = theta->joint_sensor[g.sensor];
+  gb.bias += 2.0 * gb.gain * c;
+  gb.gain = -gb.gain;
+}
+}  // namespace
+
 void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                const MinimumMove& move, SensorParameters* theta, RowMatrix* q,
                bool mirror_about_zero) {
-  for (int i : move.flip) flipSign(guesses[i], theta, q, mirror_about_zero);
+  for (int i : move.flip) {
+    if (mirror_about_zero)
+      flipAboutTurns(robot, guesses[i], theta, q);
+    else
+      flipSign(guesses[i], theta, q);
+  }
   for (int i : move.half_turn) turn(robot, guesses[i], 1, theta, q);
   for (int i : move.whole_turn) turn(robot, guesses[i], 2, theta, q);
 }

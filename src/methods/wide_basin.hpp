@@ -120,9 +120,9 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses);
 
 // Mirrors joint angle column `g.column` about its mean (about 0 where the
-// bias is held, or with `about_zero`) and flips the sign of its pot's map so
-// that the pot's predictions stay the same.
-void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q, bool about_zero = false);
+// bias is held) and flips the sign of its pot's map so that the pot's
+// predictions stay the same.
+void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q);
 // Moves joint angle column `g.column` half a turn (toward the middle of the
 // joint's limits) and shifts its pot's bias so that the pot's predictions
 // stay the same.
@@ -152,8 +152,10 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses, const RowMatrix& q);
 // The move's mirrors are about each column's mean, or with
-// `mirror_about_zero` about the joint's zero (where a chain's mirror
-// configurations are exact: the Panda's axes 1 and 3 align at q2 = 0).
+// `mirror_about_zero` about the joint's zero modulo half turns (where a
+// chain's mirror configurations are exact: the Panda's axes 1 and 3 align
+// at q2 = 0, the Kinova Jaco's 4 and 6 at q5 = π), the half turns chosen
+// to keep the mirrored motion nearest the middle of the limits.
 void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                const MinimumMove& move, SensorParameters* theta, RowMatrix* q,
                bool mirror_about_zero = false);
