@@ -434,14 +434,18 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   ArmSetup s(arm(100));
   const WideBasin wb = s.basin(s.p.seed);
   // The arm: 4 guesses, 3 of them below another: 4 flips and 4 half turns,
-  // per pair a double flip, a wrist flip and a double half turn, and the
-  // three-joint wrist flips about j2 and j3.
+  // per pair a double flip, a wrist flip and a double half turn, the
+  // three-joint wrist flips about j2 and j3, and the four-joint shoulder
+  // flip about j2 and j3.
   const std::vector<MinimumMove> moves = minimumMoves(wb.guesses(), wb.moves());
-  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 2u);
-  const MinimumMove about_j2{{1}, {0, 2}, {}};
-  EXPECT_EQ(std::count_if(moves.begin(), moves.end(), [&](const MinimumMove& m) {
-              return m.flip == about_j2.flip && m.half_turn == about_j2.half_turn;
-            }), 1);
+  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 2u + 1u);
+  auto count = [&](const MinimumMove& move) {
+    return std::count_if(moves.begin(), moves.end(), [&](const MinimumMove& m) {
+      return m.flip == move.flip && m.half_turn == move.half_turn;
+    });
+  };
+  EXPECT_EQ(count({{1}, {0, 2}, {}}), 1);
+  EXPECT_EQ(count({{1, 2}, {0, 3}, {}}), 1);
   std::vector<PotGuess> held = wb.guesses();
   held[2].bias_held = true;
   for (const MinimumMove& m : minimumMoves(held, wb.moves()))

@@ -136,11 +136,12 @@ struct MinimumMove {
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
-// guessed joint below it mirrored, and a mirrored joint with the ones above
-// and below it half a turn (the "wrist flips" of a serial chain: its links
-// then pass through the same places, so markers on or beyond them barely
-// tell the two apart, or not at all); and both joints of a pair half a
-// turn. None that changes a held gain or bias.
+// guessed joint below it mirrored, a mirrored joint with the ones above
+// and below it half a turn, and two mirrored neighbours with the ones above
+// and below them half a turn (the "wrist" and "shoulder flips" of a serial
+// chain: its links then pass through the same places, so markers on or
+// beyond them barely tell the two apart, or not at all); and both joints of
+// a pair half a turn. None that changes a held gain or bias.
 std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves);
 // Each guess on a revolute joint with limits, a whole turn: the same
