@@ -292,8 +292,11 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
                                       : ", SILENT: verdict ok");
     if (std::getenv("STAC_BASIN_DIAG") && (suspect || !reached)) {
       std::printf("    sigma/seed");
-      for (int g = 0; g < kNumSensorGroups; ++g)
-        std::printf(" %.3g", r.summary.group_sigma[g] / r.summary.seed_group_sigma[g]);
+      for (int g = 0; g < kNumSensorGroups; ++g)  // "-": the robot has no such sensor
+        if (r.summary.group_present[g])
+          std::printf(" %.3g", r.summary.group_sigma[g] / r.summary.seed_group_sigma[g]);
+        else
+          std::printf(" -");
       std::printf(", iterations %d\n", r.summary.iterations);
     }
     if (!reached && std::getenv("STAC_BASIN_DIAG")) {
