@@ -180,3 +180,29 @@ TEST(SpikeScreen, CalibrateScreensUnderARobustLossOnly) {
 
 }  // namespace
 }  // namespace stac
+
+namespace stac {
+namespace {
+
+// Without a robust loss the gross readings make a group misfit; the
+// verdict's reason counts those the screen would set aside and names the
+// loss that does.
+TEST(SpikeScreen, AMisfitWithoutALossCountsTheSpikesAndNamesHuber) {
+  test::ArmProblem p = test::makeArmProblem(300, 5);
+  test::addOutliers(p.sensors, 0.05, 9, &p.obs);
+  CalibrationOptions o;
+  o.threads = 1;
+  const CalibrationResult r = calibrate(p.robot, p.sensors, p.seed, p.obs, o);
+  ASSERT_TRUE(r.summary.suspect());
+  const int* spikes = screenSpikes(p.obs, NoiseModel::fromSeeds(p.sensors)).set_aside;
+  int named = 0;
+  for (const std::string& reason : r.summary.verdict)
+    for (int g = 0; g < kNumSensorGroups; ++g)
+      named += reason.find(std::to_string(spikes[g]) +
+                           " of them stand out of their neighbours in time as gross readings, "
+                           "which --loss huber sets aside") != std::string::npos;
+  EXPECT_GE(named, 1) << r.summary.verdict[0];
+}
+
+}  // namespace
+}  // namespace stac

@@ -7,6 +7,7 @@
 
 #include "methods/origin_verdict.hpp"
 #include "solve/q_phase.hpp"
+#include "solve/spike_screen.hpp"
 #include "solve/statistics.hpp"
 
 namespace stac {
@@ -20,20 +21,33 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
 
 // Each group's fit against its seed σ: the fitted σ when σ was adapted, else
 // the residual RMS per row (a marker's Euclidean residual has three).
+// Without a robust loss a group that misfits may hold gross readings: the
+// reason then says how many of them the spike screen would set aside.
 void checkGroups(const MethodInput& in, const CalibrationSummary& s,
                  std::vector<std::string>* why) {
   const bool adapted = in.options.adapt_variance && in.options.method != Method::kEkf;
+  SpikeScreen spikes;
+  bool screened = false;
   for (int g = 0; g < kNumSensorGroups; ++g) {
     if (!s.group_present[g] || !(s.seed_group_sigma[g] > 0)) continue;
     const double fit = adapted ? s.group_sigma[g] : s.after_rms[g] / std::sqrt(kReadingRows[g]);
     const double ratio = fit / s.seed_group_sigma[g];
-    if (!(ratio <= kSuspectFitRatio))
-      why->push_back(std::string("the ") + groupName(static_cast<SensorGroup>(g)) +
-                     format(" readings fit %.3g times worse than their seed sigma (%.3g -> %.3g ",
-                            ratio, s.seed_group_sigma[g], fit) +
-                     groupUnit(static_cast<SensorGroup>(g)) +
-                     "): a wrong minimum, a sigma in the wrong unit, or readings the model "
-                     "does not explain");
+    if (ratio <= kSuspectFitRatio) continue;
+    std::string reason = std::string("the ") + groupName(static_cast<SensorGroup>(g)) +
+                         format(" readings fit %.3g times worse than their seed sigma (%.3g -> %.3g ",
+                                ratio, s.seed_group_sigma[g], fit) +
+                         groupUnit(static_cast<SensorGroup>(g)) +
+                         "): a wrong minimum, a sigma in the wrong unit, or readings the model "
+                         "does not explain";
+    if (!in.problem.loss.enabled()) {
+      if (!screened) spikes = screenSpikes(in.problem.obs, in.problem.seed_noise);
+      screened = true;
+      if (spikes.set_aside[g] > 0)
+        reason += format("; %.0f of them stand out of their neighbours in time as gross "
+                         "readings, which --loss huber sets aside",
+                         spikes.set_aside[g]);
+    }
+    why->push_back(std::move(reason));
   }
 }
 
