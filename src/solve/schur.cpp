@@ -66,6 +66,46 @@ void frameSystem(const MeasurementModel& model, const SensorParameters& theta,
 }
 
 void dampQ(double lambda, Eigen::MatrixXd* H) { addDamping(lambda, *H, H); }
+
+// What reduceOntoTheta accumulates per block of frames (D and B only when
+// asked for), summed in block order so that the result does not depend on
+// the number of threads.
+struct BlockSums {
+  BlockSums(int nf, bool diag, bool outer)
+      : S(kBlocks, Eigen::MatrixXd::Zero(nf, nf)),
+        B(outer ? kBlocks : 0, Eigen::MatrixXd::Zero(nf, nf)),
+        g(kBlocks, Eigen::VectorXd::Zero(nf)),
+        D(diag ? kBlocks : 0, Eigen::VectorXd::Zero(nf)),
+        cost(kBlocks, 0.0) {}
+  std::vector<Eigen::MatrixXd> S, B;
+  std::vector<Eigen::VectorXd> g, D;
+  std::vector<double> cost;
+
+  // Into out (S made symmetric from its lower half), *unreduced_diag and
+  // *score_outer where given.
+  void sum(int nf, ReducedSystem* out, Eigen::VectorXd* unreduced_diag,
+           Eigen::MatrixXd* score_outer) const {
+    out->S = Eigen::MatrixXd::Zero(nf, nf);
+    out->g = Eigen::VectorXd::Zero(nf);
+    for (int b = 0; b < kBlocks; ++b) {
+      out->S += S[b];
+      out->g += g[b];
+      out->cost += cost[b];
+    }
+    // S accumulated H_θθ (lower) minus the eliminated part. LM on the
+    // reduced system damps S's own diagonal (a standard choice).
+    out->S = out->S.selfadjointView<Eigen::Lower>();
+    if (unreduced_diag) {
+      unreduced_diag->setZero(nf);
+      for (const Eigen::VectorXd& b : D) *unreduced_diag += b;
+    }
+    if (score_outer) {
+      score_outer->setZero(nf, nf);
+      for (const Eigen::MatrixXd& b : B) *score_outer += b;
+      *score_outer = score_outer->selfadjointView<Eigen::Lower>();
+    }
+  }
+};
 }  // namespace
 
 ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParameters& theta,
@@ -82,18 +122,14 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
   const int dof = model.dof();
   const int T = obs.num_frames;
   const std::vector<int>& free_of = space.freePosition();
-  std::vector<Eigen::MatrixXd> bS(kBlocks, Eigen::MatrixXd::Zero(nf, nf)), bH(kBlocks);
-  std::vector<Eigen::VectorXd> bg(kBlocks, Eigen::VectorXd::Zero(nf));
-  std::vector<Eigen::VectorXd> bD(unreduced_diag ? kBlocks : 0, Eigen::VectorXd::Zero(nf));
-  std::vector<Eigen::MatrixXd> bB(score_outer ? kBlocks : 0, Eigen::MatrixXd::Zero(nf, nf));
-  std::vector<double> bcost(kBlocks, 0.0);
+  BlockSums sums(nf, unreduced_diag != nullptr, score_outer != nullptr);
   const bool need_y = with_gradient || score_outer;
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
   parallelFor(kBlocks, threads, [&](int block, int tid) {
     FrameSystem fs{Eigen::MatrixXd(dof, dof), Eigen::MatrixXd(dof, nf), Eigen::VectorXd(dof)};
     Eigen::MatrixXd X(dof * kBatch, nf), Y(dof * kBatch, 1), G(nf, kBatch);
     Eigen::VectorXd qt(dof), g_frame(nf);
-    Eigen::MatrixXd& S = bS[block];
+    Eigen::MatrixXd& S = sums.S[block];
     const int begin = static_cast<int>(static_cast<long>(T) * block / kBlocks);
     const int end = static_cast<int>(static_cast<long>(T) * (block + 1) / kBlocks);
     int in_batch = 0;
@@ -101,18 +137,18 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
       if (in_batch == 0) return;
       const int rows = in_batch * dof;
       S.selfadjointView<Eigen::Lower>().rankUpdate(X.topRows(rows).transpose(), -1.0);
-      if (with_gradient) bg[block].noalias() -= X.topRows(rows).transpose() * Y.topRows(rows);
+      if (with_gradient) sums.g[block].noalias() -= X.topRows(rows).transpose() * Y.topRows(rows);
       if (score_outer)
-        bB[block].selfadjointView<Eigen::Lower>().rankUpdate(G.leftCols(in_batch));
+        sums.B[block].selfadjointView<Eigen::Lower>().rankUpdate(G.leftCols(in_batch));
       in_batch = 0;
     };
     for (int t = begin; t < end; ++t) {
       qt = q.row(t).transpose();
       // The frame's own θ score first when its outer product is wanted.
       if (score_outer) g_frame.setZero();
-      Eigen::VectorXd* g_theta = score_outer ? &g_frame : with_gradient ? &bg[block] : nullptr;
+      Eigen::VectorXd* g_theta = score_outer ? &g_frame : with_gradient ? &sums.g[block] : nullptr;
       frameSystem(model, theta, noise, loss, obs, qt, t, free_of, &(*ws)[tid], &fs, &S, g_theta,
-                  unreduced_diag ? &bD[block] : nullptr, &bcost[block], groups);
+                  unreduced_diag ? &sums.D[block] : nullptr, &sums.cost[block], groups);
       if (visit) visit(block, (*ws)[tid], fs.Hqq);
       dampQ(lambda, &fs.Hqq);
       Eigen::LLT<Eigen::MatrixXd> llt(fs.Hqq);
@@ -122,31 +158,13 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
       if (need_y) Yt = llt.matrixL().solve(fs.gq);
       if (score_outer) {
         G.col(in_batch) = g_frame - Xt.transpose() * Yt;  // g_θ - H_θq H_qq⁻¹ g_q
-        if (with_gradient) bg[block] += g_frame;
+        if (with_gradient) sums.g[block] += g_frame;
       }
       if (++in_batch == kBatch) flush();
     }
     flush();
   });
-  out.S = Eigen::MatrixXd::Zero(nf, nf);
-  out.g = Eigen::VectorXd::Zero(nf);
-  for (int b = 0; b < kBlocks; ++b) {
-    out.S += bS[b];
-    out.g += bg[b];
-    out.cost += bcost[b];
-  }
-  if (unreduced_diag) {
-    unreduced_diag->setZero(nf);
-    for (const Eigen::VectorXd& b : bD) *unreduced_diag += b;
-  }
-  if (score_outer) {
-    score_outer->setZero(nf, nf);
-    for (const Eigen::MatrixXd& b : bB) *score_outer += b;
-    *score_outer = score_outer->selfadjointView<Eigen::Lower>();
-  }
-  // bS accumulated H_θθ (lower) minus the eliminated part. LM on the
-  // reduced system damps S's own diagonal (a standard choice).
-  out.S = out.S.selfadjointView<Eigen::Lower>();
+  sums.sum(nf, &out, unreduced_diag, score_outer);
   return out;
 }
 
