@@ -170,12 +170,17 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
 
 // p = g q + b = (-g) (2c - q) + (b + 2 g c); about c = 0 where the bias is
 // held, so that it stays.
-void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
-  const double c = g.bias_held ? 0.0 : q->col(g.column).mean();
+namespace {
+void mirrorAbout(const PotGuess& g, double c, SensorParameters* theta, RowMatrix* q) {
   q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
   GainBias& gb = theta->joint_sensor[g.sensor];
   gb.bias += 2.0 * gb.gain * c;
   gb.gain = -gb.gain;
+}
+}  // namespace
+
+void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+  mirrorAbout(g, g.bias_held ? 0.0 : q->col(g.column).mean(), theta, q);
 }
 
 namespace {
@@ -263,10 +268,7 @@ void flipAboutTurns(const RobotModel& robot, const PotGuess& g, SensorParameters
   double c = 0;
   if (revolute && std::isfinite(mid) && !g.bias_held)
     c = M_PI * std::round((mid + q->col(g.column).mean()) / (2 * M_PI));
-  q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
-  GainBias& gb = theta->joint_sensor[g.sensor];
-  gb.bias += 2.0 * gb.gain * c;
-  gb.gain = -gb.gain;
+  mirrorAbout(g, c, theta, q);
 }
 }  // namespace
 

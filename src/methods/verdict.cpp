@@ -43,9 +43,9 @@ void checkGroups(const MethodInput& in, const CalibrationSummary& s,
       if (!screened) spikes = screenSpikes(in.problem.obs, in.problem.seed_noise);
       screened = true;
       if (spikes.set_aside[g] > 0)
-        reason += format("; %.0f of them stand out of their neighbours in time as gross "
-                         "readings, which --loss huber sets aside",
-                         spikes.set_aside[g]);
+        reason += "; " + std::to_string(spikes.set_aside[g]) +
+                  " of them stand out of their neighbours in time as gross readings, which "
+                  "--loss huber sets aside";
     }
     why->push_back(std::move(reason));
   }

@@ -75,9 +75,16 @@ std::vector<double> parabolaDeviations(const Eigen::Ref<const Eigen::VectorXd>& 
   return d;
 }
 
-// Where each frame lies on the parabolas' axis: its time in units of the
-// median frame interval where the log has strictly increasing times (a gap
-// of dropped frames is then as wide as it was), else its index.
+// 1.4826 × the median |v| over the finite entries, and their count.
+std::pair<double, int> robustScale(const std::vector<double>& v) {
+  std::vector<double> a;
+  for (double e : v)
+    if (std::isfinite(e)) a.push_back(std::abs(e));
+  return {a.empty() ? 0.0 : kMadToSigma * median(&a), static_cast<int>(a.size())};
+}
+
+}  // namespace
+
 std::vector<double> framePositions(const std::vector<double>& time, int n) {
   std::vector<double> at(n);
   for (int t = 0; t < n; ++t) at[t] = t;
@@ -92,20 +99,11 @@ std::vector<double> framePositions(const std::vector<double>& time, int n) {
   return at;
 }
 
-// 1.4826 × the median |v| over the finite entries, and their count.
-std::pair<double, int> robustScale(const std::vector<double>& v) {
-  std::vector<double> a;
-  for (double e : v)
-    if (std::isfinite(e)) a.push_back(std::abs(e));
-  return {a.empty() ? 0.0 : kMadToSigma * median(&a), static_cast<int>(a.size())};
-}
-
-}  // namespace
-
 std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, double sigma,
-                               const std::vector<double>& time) {
+                               const std::vector<double>& positions) {
   const int n = static_cast<int>(x.size());
-  const std::vector<double> at = framePositions(time, n);
+  const std::vector<double> at =
+      static_cast<int>(positions.size()) == n ? positions : framePositions({}, n);
   std::vector<bool> spike(n, false);
   // Candidates first, by the robust median and a low bound; they only stop
   // being neighbours in the parabola's fit, so a good reading among them
@@ -139,12 +137,13 @@ std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, doubl
 
 SpikeScreen screenSpikes(const Observations& obs, const NoiseModel& seed) {
   SpikeScreen out;
+  const std::vector<double> at = framePositions(obs.time, obs.num_frames);
   out.kept = obs;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   auto scalar = [&](RowMatrix* m, const std::vector<double>& sigma, SensorGroup g) {
     for (int c = 0; c < m->cols(); ++c) {
       const Eigen::VectorXd col = m->col(c);
-      const std::vector<bool> spike = columnSpikes(col, sigma[c], obs.time);
+      const std::vector<bool> spike = columnSpikes(col, sigma[c], at);
       for (int t = 0; t < m->rows(); ++t)
         if (spike[t]) (*m)(t, c) = nan, ++out.set_aside[static_cast<int>(g)];
     }
@@ -156,7 +155,7 @@ SpikeScreen screenSpikes(const Observations& obs, const NoiseModel& seed) {
     std::vector<bool> any(markers.rows(), false);
     for (int i = 0; i < 3; ++i) {
       const Eigen::VectorXd col = markers.col(3 * m + i);
-      const std::vector<bool> spike = columnSpikes(col, seed.marker[m], obs.time);
+      const std::vector<bool> spike = columnSpikes(col, seed.marker[m], at);
       for (int t = 0; t < markers.rows(); ++t) any[t] = any[t] || spike[t];
     }
     for (int t = 0; t < markers.rows(); ++t)

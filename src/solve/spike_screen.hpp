@@ -39,9 +39,16 @@ struct SpikeScreen {
 
 SpikeScreen screenSpikes(const Observations& obs, const NoiseModel& seed);
 
-// The spikes of one column (NaN = missing): true where set aside. `time`:
-// the log's (empty: none). Exposed for its tests.
+// Where each of n frames lies on the parabolas' axis: its time in units of
+// the median frame interval where `time` (the log's; empty: none) is
+// strictly increasing (a gap of dropped frames is then as wide as it was),
+// else its index. Computed once per log.
+std::vector<double> framePositions(const std::vector<double>& time, int n);
+
+// The spikes of one column (NaN = missing): true where set aside;
+// `positions` from framePositions (empty: the frame indices). Exposed for
+// its tests.
 std::vector<bool> columnSpikes(const Eigen::Ref<const Eigen::VectorXd>& x, double sigma,
-                               const std::vector<double>& time = {});
+                               const std::vector<double>& positions = {});
 
 }  // namespace stac
