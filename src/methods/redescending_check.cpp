@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace stac {
 
@@ -22,21 +23,20 @@ double largestShiftInStd(const ThetaSpace& space, const SensorParameters& a,
 }
 
 std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber,
-                             const SensorParameters& cauchy,
-                             const std::vector<UnidentifiableDirection>& cauchy_unidentifiable) {
+                             const CauchyFit& cauchy) {
   const ThetaSpace& space = model.thetaSpace();
   // A bias Cauchy's result knows only modulo a turn (turn_ambiguity.hpp):
   // a whole turn apart is the same fit.
   Eigen::VectorXd period = Eigen::VectorXd::Zero(space.size());
-  for (const UnidentifiableDirection& u : cauchy_unidentifiable) {
+  for (const UnidentifiableDirection& u : cauchy.unidentifiable) {
     if (u.reason.find("modulo a turn") == std::string::npos || u.parameters.empty()) continue;
     for (int i = 0; i < space.size(); ++i)
       if (space.names()[i] == u.parameters[0] && space.entry(i).block == ThetaBlock::kJointSensor)
-        period[i] = 2 * M_PI * std::abs(cauchy.joint_sensor[space.entry(i).item].gain);
+        period[i] = 2 * M_PI * std::abs(cauchy.theta.joint_sensor[space.entry(i).item].gain);
   }
+  const Eigen::VectorXd std = huber.uncertainty.std.cwiseMax(cauchy.std);
   int which = -1;
-  const double z =
-      largestShiftInStd(space, huber.theta, cauchy, huber.uncertainty.std, &which, &period);
+  const double z = largestShiftInStd(space, huber.theta, cauchy.theta, std, &which, &period);
   if (z <= kLossShiftStd) return {};
   char buf[96];
   std::snprintf(buf, sizeof buf, "%.3g", z);
@@ -67,9 +67,11 @@ std::string crossCheckWithCauchy(const MethodInput& in, const Outcome& huber) {
   // tell: with σ adapted neither run ends at its loss's exact minimum, and
   // where both reach the truth Huber's end often fits Cauchy's problem
   // better than Cauchy's end does.)
-  const CalibrationResult other = makeResult(check, runStac(check), nullptr);
+  Outcome outcome = runStac(check);
+  const Eigen::VectorXd std = outcome.uncertainty.std;
+  const CalibrationResult other = makeResult(check, std::move(outcome), nullptr);
   if (!other.summary.verdict.empty()) return {};
-  return lossDisagreement(problem.model, huber, other.theta, other.summary.unidentifiable);
+  return lossDisagreement(problem.model, huber, {other.theta, std, other.summary.unidentifiable});
 }
 
 }  // namespace stac

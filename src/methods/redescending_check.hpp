@@ -40,12 +40,21 @@ double largestShiftInStd(const ThetaSpace& space, const SensorParameters& a,
                          const SensorParameters& b, const Eigen::VectorXd& std, int* which,
                          const Eigen::VectorXd* period = nullptr);
 
-// The verdict reason when `huber`'s θ is more than kLossShiftStd of its std
-// from `cauchy`'s (empty: they agree); a bias that Cauchy's result lists as
-// known only modulo a turn is compared modulo that turn.
+// What the check needs of the Cauchy run's result.
+struct CauchyFit {
+  SensorParameters theta;
+  Eigen::VectorXd std;  // per θ entry, as Outcome::uncertainty.std
+  std::vector<UnidentifiableDirection> unidentifiable;
+};
+
+// The verdict reason when `huber`'s θ is more than kLossShiftStd from
+// `cauchy`'s (empty: they agree), each entry measured in the larger of the
+// two fits' std: where Cauchy's weights leave a parameter weakly determined
+// or undetermined (a finger whose pot's stroke is its noise: std +inf under
+// Cauchy), Cauchy's value of it contradicts nothing. A bias that Cauchy's
+// result lists as known only modulo a turn is compared modulo that turn.
 std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber,
-                             const SensorParameters& cauchy,
-                             const std::vector<UnidentifiableDirection>& cauchy_unidentifiable);
+                             const CauchyFit& cauchy);
 
 // The check itself, for runStac's Huber run `in` that set gross readings
 // aside and ended in `huber`: the whole run again from the same seed with

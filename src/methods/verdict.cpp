@@ -1,11 +1,13 @@
 #include "methods/verdict.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
 
 #include "methods/origin_verdict.hpp"
+#include "solve/lm_damping.hpp"
 #include "solve/q_phase.hpp"
 #include "solve/spike_screen.hpp"
 #include "solve/statistics.hpp"
@@ -156,18 +158,58 @@ bool placementUndetermined(const RobotModel& robot, const CalibrationResult& r, 
   return false;
 }
 
-void checkLimits(const MethodInput& in, const Fit& fit, const CalibrationResult& r,
-                 std::vector<std::string>* why) {
+// Of the frames where q holds joint j at a bound of the q-phase's box, how
+// many the readings put beyond the URDF's limit by more than
+// kLimitExcessStd of that frame's own angle std: from the bound, the frame's
+// unconstrained Gauss-Newton step and H⁻¹'s diagonal at the final θ and σ.
+// A joint whose angle a frame knows no better than the 5% widening (a
+// finger whose pot's stroke is its noise) reaches the bound by noise alone
+// wherever its true motion nears a limit; a wrong minimum's readings ask
+// for angles far beyond it.
+int framesBeyondLimit(const MethodInput& in, const Outcome& out, const Fit& fit,
+                      const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& at, int j) {
+  const MeasurementModel& model = in.problem.model;
+  const RobotModel& robot = model.robot();
+  const Eigen::VectorXd lower = robot.lowerLimits(), upper = robot.upperLimits();
+  FrameWorkspace ws(model);
+  FrameOptions eval;
+  const int dof = model.dof();
+  Eigen::MatrixXd H(dof, dof);
+  Eigen::VectorXd g(dof);
+  int beyond = 0;
+  for (int t = 0; t < fit.q.rows(); ++t) {
+    if (!at(t, j)) continue;
+    const Eigen::VectorXd q = fit.q.row(t).transpose();
+    evaluateFrame(model, out.theta, out.noise, in.problem.loss, frameReadings(fit.obs, t), q,
+                  eval, &ws);
+    accumulateNormalEquations(ws, &H, &g);
+    H.diagonal().array() += ridge(H.diagonal());
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+    const double sd = std::sqrt(ldlt.solve(Eigen::VectorXd::Unit(dof, j))[j]);
+    const double free = q[j] - ldlt.solve(g)[j];
+    const bool at_upper = std::abs(q[j] - upper[j]) < std::abs(q[j] - lower[j]);
+    const double excess = at_upper ? free - upper[j] : lower[j] - free;
+    if (std::isfinite(sd) && excess > kLimitExcessStd * sd) ++beyond;
+  }
+  return beyond;
+}
+
+void checkLimits(const MethodInput& in, const Outcome& out, const Fit& fit,
+                 const CalibrationResult& r, std::vector<std::string>* why) {
   const RobotModel& robot = in.problem.model.robot();
   const auto at = atWidenedLimit(robot, fit.q);
+  const double frames = static_cast<double>(fit.q.rows());
   for (int j : jointsOftenAtLimit(robot, fit.q, kSuspectShareAtLimit)) {
     if (placementUndetermined(robot, r, j)) continue;
+    const int beyond = framesBeyondLimit(in, out, fit, at, j);
+    if (beyond < 3 || beyond <= kSuspectShareAtLimit * frames) continue;
     why->push_back("joint " + robot.qName(j) +
-                   format(" sits at its limit (the URDF's, widened by 5%%) in %.0f of %.0f frames: "
-                          "the calibration puts its motion beyond the joint's range (a wrong "
-                          "minimum, e.g. a pot's map a whole turn off, or URDF limits narrower "
-                          "than the robot's)",
-                          static_cast<double>(at.col(j).count()), static_cast<double>(fit.q.rows())));
+                   format(" sits at its limit (the URDF's, widened by 5%%) in %.0f of %.0f frames, "
+                          "in %.0f of them beyond the URDF's limit by more than 3 std of the "
+                          "frame's angle: the calibration puts its motion beyond the joint's range "
+                          "(a wrong minimum, e.g. a pot's map a whole turn off, or URDF limits "
+                          "narrower than the robot's)",
+                          static_cast<double>(at.col(j).count()), frames, beyond));
   }
 }
 
@@ -203,7 +245,7 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, co
     checkMedians(in, fit, r, &why);
   }
   checkMarkers(in, r, &why);
-  checkLimits(in, fit, r, &why);
+  checkLimits(in, out, fit, r, &why);
   // Infinite is a std the data do not determine; NaN is a failed analysis.
   if (out.uncertainty.std.hasNaN() || !std::isfinite(out.final_cost))
     why.push_back("the cost or the uncertainty of the result is not a number (NaN): a "

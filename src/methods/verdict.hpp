@@ -26,6 +26,9 @@ constexpr double kSuspectSensorRatio = 4.0;
 // it (5% gross readings held 2-5% of the frames of the basin test's arm4 at
 // a limit), hence a share well above that.
 constexpr double kSuspectShareAtLimit = 0.10;
+// A frame counts as put beyond a joint's limit when its unconstrained angle
+// lies beyond the URDF's limit by more than this many of its own std.
+constexpr double kLimitExcessStd = 3.0;
 // The share of frames at a limit from which a converged run looks for a
 // better minimum (alternation.cpp): a false start costs only time.
 constexpr double kEscapeShareAtLimit = 0.02;
