@@ -16,7 +16,9 @@
 // STAC_BASIN_LOSS=cauchy runs the outlier rows under Cauchy's loss instead
 // of Huber's; STAC_BASIN_TRACE=1 prints every iteration's cost and RMS;
 // STAC_BASIN_NO_SCREEN=1 fits the outlier rows without setting spikes in
-// time aside first (spike_screen.hpp).
+// time aside first (spike_screen.hpp). Other robots without a rebuild:
+// STAC_ROBOTS_DIR=dir (its *.urdf instead of the configured set),
+// STAC_BASIN_MAX_DOF=n (robots up to n joints instead of 12).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -343,7 +345,8 @@ void expectBasin(const Robot& robot, const Tally& t) {
 }
 
 TEST(Basin, PaperSeedingConvergesFromRandomTruths) {
-  for (Robot& robot : robots(12)) {
+  const char* max_dof = std::getenv("STAC_BASIN_MAX_DOF");  // larger robots of another set
+  for (Robot& robot : robots(max_dof ? std::atoi(max_dof) : 12)) {
     for (Variant v : {Variant::kPlain, Variant::kOutliers, Variant::kPartialSwings}) {
       const Tally t = runVariant(robot, v, truthsPerVariant(), robot.frames);
       expectBasin(robot, t);

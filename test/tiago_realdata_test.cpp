@@ -170,7 +170,10 @@ TEST_F(Tiago, AtColumnsCalibrateWithNoSensorsFile) {
 // alternation's decrease to fall below 1%; alternation.cpp).
 class TiagoFolds : public Tiago {
  protected:
-  void expectEveryFoldConverges(int markers, const std::string& extra) {
+  // `suspect_because` empty: every fold passes its checks (exit 0, verdict
+  // ok); else every fold fails them (exit 4) with a reason containing it.
+  void expectEveryFoldConverges(int markers, const std::string& extra,
+                                const std::string& suspect_because = "") {
     const std::string text = test::readFile(realdata("qualisys_2021-11-30_static_postures.csv"));
     std::vector<std::string> lines;
     for (size_t at = 0, end; at < text.size(); at = end + 1) {
@@ -200,10 +203,11 @@ class TiagoFolds : public Tiago {
         if ((i - 1) % 5 != static_cast<size_t>(fold)) train += lines[i] + "\n";
       test::writeFile(dir_.file("train.csv"), train);
       const auto r = calib(dir_.file("train.csv"), "--sensors " + dir_.file("seed.yaml") + extra);
-      ASSERT_EQ(r.exit_code, 0) << "fold " << fold << ": " << r.err;
+      ASSERT_EQ(r.exit_code, suspect_because.empty() ? 0 : 4) << "fold " << fold << ": " << r.err;
       const std::string yaml = test::readFile(dir_.file("cal.yaml"));
       EXPECT_NE(yaml.find("converged: true"), std::string::npos) << yaml;
-      EXPECT_NE(yaml.find("verdict: ok"), std::string::npos) << yaml;
+      EXPECT_NE(yaml.find(suspect_because.empty() ? "verdict: ok" : suspect_because),
+                std::string::npos) << yaml;
       const size_t at = yaml.find("iterations: ");
       ASSERT_NE(at, std::string::npos);
       EXPECT_LE(std::stoi(yaml.substr(at + 12)), 30) << "fold " << fold;
@@ -223,6 +227,19 @@ TEST_F(TiagoFolds, FourPointsAndJointOriginsEveryFoldConvergesWithin30Iterations
   std::string origins;
   for (const char* j : kArmJoints) origins += std::string(origins.empty() ? "" : ",") + j;
   expectEveryFoldConverges(4, " --joint-origins " + origins);
+}
+
+// The four points as four markers without the joints' origins: the model
+// cannot explain the hand's orientation with the URDF's geometry, and the
+// joint readings fit about 4x their seed σ. Said so with or without a
+// robust loss: under Huber the residuals' medians (which do not count the
+// degrees of freedom each posture's angles spend) stayed under their bounds
+// in 4 of 5 folds, exit 0 at 4.1 mm held-out, while the adapted σ, which
+// does, was 3.8x its seed.
+TEST_F(TiagoFolds, FourPointsWithoutOriginsAreSuspectWithOrWithoutARobustLoss) {
+  const std::string reason = "the joint readings fit";
+  expectEveryFoldConverges(4, "", reason);
+  expectEveryFoldConverges(4, " --loss huber", reason);
 }
 
 }  // namespace

@@ -26,7 +26,10 @@ std::string appPath(const std::string& app) {
 
 std::vector<std::string> externalUrdfs() {
   std::vector<std::string> out;
-  const std::string dir = STAC_ROBOTS_DIR;
+  // The environment's STAC_ROBOTS_DIR, when set, overrides the configured
+  // one: the basin test then runs on other robots without a rebuild.
+  const char* env = std::getenv("STAC_ROBOTS_DIR");
+  const std::string dir = env && *env ? env : STAC_ROBOTS_DIR;
   if (dir.empty()) return out;
   if (DIR* d = opendir(dir.c_str())) {
     while (dirent* e = readdir(d)) {
