@@ -19,6 +19,9 @@
 // time aside first (spike_screen.hpp). Other robots without a rebuild:
 // STAC_ROBOTS_DIR=dir (its *.urdf instead of the configured set),
 // STAC_BASIN_MAX_DOF=n (robots up to n joints instead of 12).
+// STAC_BASIN_NOISE_SEED=n draws the motion and noise anew for the same
+// truths; STAC_BASIN_Z=text prints the z of every parameter whose name
+// holds it, reached or not (is a std honest?).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -95,7 +98,9 @@ bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParam
   const double k = 4.0;
   auto off = [&](double error, double sd, const std::string& what) {
     if (z && sd > 0 && std::isfinite(sd)) z->push_back(error / sd);
-    if (std::getenv("STAC_BASIN_DIAG") && std::abs(error) > 2.5 * sd)
+    const char* watch = std::getenv("STAC_BASIN_Z");  // a parameter's z, every truth
+    if ((std::getenv("STAC_BASIN_DIAG") && std::abs(error) > 2.5 * sd) ||
+        (watch && what.find(watch) != std::string::npos))
       std::printf("    z %.2f %s\n", error / sd, what.c_str());
     if (std::abs(error) <= k * sd) return false;
     *why = what + ": " + std::to_string(error) + " off the truth (std " + std::to_string(sd) + ")";
@@ -249,10 +254,13 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
   std::mt19937_64 rng(2024);
   double z2 = 0, zn = 0;  // the reached truths' squared errors in std, and their count
   const char* pick = std::getenv("STAC_BASIN_PICK");  // one truth, by its index
+  // Another draw of the motion and noise for the same truths (is a std honest?)
+  const char* noise_env = std::getenv("STAC_BASIN_NOISE_SEED");
+  const int noise_seed = noise_env ? 7919 * std::atoi(noise_env) : 0;
   for (int k = 0; k < truths; ++k) {
     const SensorParameters truth = randomTruth(robot.truth.sensors, robot.truth.theta, rng);
     if (pick && std::atoi(pick) != k) continue;
-    const Simulation sim = simulateVariant(robot, model, truth, v, frames, 1000 + k);
+    const Simulation sim = simulateVariant(robot, model, truth, v, frames, 1000 + k + noise_seed);
     const Observations obs = bindLog(sim.data.log, robot.truth.sensors, "truth", 1.0);
     CalibrationOptions o;
     o.threads = 2;
