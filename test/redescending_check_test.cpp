@@ -60,24 +60,33 @@ TEST(RedescendingCheck, LargestShiftIsInStdOverFreeEntriesWithAFiniteStd) {
   EXPECT_EQ(which, gain);
 }
 
-TEST(RedescendingCheck, DisagreementBeyondTheThresholdNamesTheParameterAndTheRemedy) {
+// Huber's outcome at the arm's truth and a Cauchy fit shifted from it by d
+// (in θ's tangent space), with Huber's std unless a test changes it.
+class Shift : public ::testing::Test {
+ protected:
+  std::string disagreement() const {
+    return lossDisagreement(a.model, huber, cauchyAt(space.plus(a.truth.theta, d), huber));
+  }
   const Arm a;
   const ThetaSpace& space = a.model.thetaSpace();
   const Outcome huber = huberAt(a);
   const int j = space.jointOffset(0);
   Eigen::VectorXd d = Eigen::VectorXd::Zero(space.size());
+};
+
+TEST_F(Shift, DisagreementBeyondTheThresholdNamesTheParameterAndTheRemedy) {
   d[j] = 0.01 * (kLossShiftStd - 0.5);
-  EXPECT_EQ(lossDisagreement(a.model, huber, cauchyAt(space.plus(a.truth.theta, d), huber)), "");
+  EXPECT_EQ(disagreement(), "");
   d[j] = 0.01 * (kLossShiftStd + 0.5);
-  const std::string why = lossDisagreement(a.model, huber, cauchyAt(space.plus(a.truth.theta, d), huber));
+  const std::string why = disagreement();
   EXPECT_NE(why.find("3.5 std"), std::string::npos) << why;
   EXPECT_NE(why.find("on the " + space.ownerPhrase(j)), std::string::npos) << why;
-  // The mocap frame's phrase has its own article.
-  Eigen::VectorXd r = Eigen::VectorXd::Zero(space.size());
-  r[ThetaSpace::kRotationOffset] = 0.05;
-  const std::string rotation = lossDisagreement(a.model, huber, cauchyAt(space.plus(a.truth.theta, r), huber));
-  EXPECT_NE(rotation.find("std on the mocap rotation:"), std::string::npos) << rotation;
   EXPECT_NE(why.find("--loss cauchy"), std::string::npos) << why;
+  // The mocap frame's phrase has its own article.
+  d.setZero();
+  d[ThetaSpace::kRotationOffset] = 0.05;
+  const std::string rotation = disagreement();
+  EXPECT_NE(rotation.find("std on the mocap rotation:"), std::string::npos) << rotation;
 }
 
 // Where Cauchy's weights leave a parameter weakly determined (a finger whose
@@ -86,12 +95,7 @@ TEST(RedescendingCheck, DisagreementBeyondTheThresholdNamesTheParameterAndTheRem
 // evidence against Huber's value of it (measured: the basin's panda with 5%
 // gross readings, a finger gain 23 of Huber's std away, std +inf under
 // Cauchy, flagged a fit that had reached the truth).
-TEST(RedescendingCheck, AShiftCountsInTheLargerOfTheTwoFitsStd) {
-  const Arm a;
-  const ThetaSpace& space = a.model.thetaSpace();
-  const Outcome huber = huberAt(a);
-  const int j = space.jointOffset(0);
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(space.size());
+TEST_F(Shift, AShiftCountsInTheLargerOfTheTwoFitsStd) {
   d[j] = 0.01 * 2 * kLossShiftStd;  // twice the threshold in Huber's std
   CauchyFit cauchy = cauchyAt(space.plus(a.truth.theta, d), huber);
   EXPECT_NE(lossDisagreement(a.model, huber, cauchy), "");
