@@ -161,5 +161,40 @@ TEST(RedescendingCheck, RunsWhereHuberSetReadingsAsideAndAgreesOnTheArm) {
   EXPECT_TRUE(r.summary.verdict.empty());
 }
 
+// A Huber end in a wrong minimum (here the arm's fit with one pot's map
+// moved off it) that Cauchy's run contradicts: Huber's run goes on from
+// Cauchy's end, which fits Huber's problem better, and that fit is
+// returned, agreeing with Cauchy's. A Huber end that agrees comes back as
+// it was.
+TEST(RedescendingCheck, AWrongHuberEndIsReplacedByHubersRunFromCauchysEnd) {
+  test::ArmProblem p = test::makeArmProblem(500, 12);
+  test::addOutliers(p.sensors, 0.05, 99, &p.obs);
+  const MeasurementModel model(p.robot, p.sensors);
+  const NoiseModel noise = NoiseModel::fromSeeds(p.sensors);
+  const RobustLoss huber_loss(LossKind::kHuber, 3.0);
+  const Problem problem{model, p.obs, noise, huber_loss, 2};
+  CalibrationOptions o;
+  o.loss = LossKind::kHuber;
+  o.screen_spikes = false;
+  const MethodInput in{problem, p.seed, o, Clock::now(), nullptr};
+  const Outcome right = runStac(in);
+  ASSERT_TRUE(right.loss_disagreement.empty()) << right.loss_disagreement;
+  const Outcome same = crossCheckWithCauchy(in, right);
+  EXPECT_EQ(same.iterations, right.iterations);
+  EXPECT_TRUE(same.theta.joint_sensor[1].gain == right.theta.joint_sensor[1].gain);
+
+  const int j = 1, gain = model.thetaSpace().jointOffset(j);
+  Outcome wrong = right;
+  wrong.theta.joint_sensor[j].gain *= 1.2;  // 20%: hundreds of its std
+  ASSERT_GT(std::abs(wrong.theta.joint_sensor[j].gain - right.theta.joint_sensor[j].gain),
+            20 * right.uncertainty.std[gain]);
+  const Outcome kept = crossCheckWithCauchy(in, wrong);
+  EXPECT_TRUE(kept.loss_disagreement.empty()) << kept.loss_disagreement;
+  EXPECT_NEAR(kept.theta.joint_sensor[j].gain, right.theta.joint_sensor[j].gain,
+              right.uncertainty.std[gain]);
+  EXPECT_GT(kept.iterations, wrong.iterations);
+  EXPECT_TRUE(kept.converged);
+}
+
 }  // namespace
 }  // namespace stac

@@ -460,7 +460,7 @@ Problem setGrossReadingsAside(const MethodInput& in, LoopOutcome* loop, State* s
 
 }  // namespace
 
-Outcome runStac(const MethodInput& in) {
+Outcome stacRun(const MethodInput& in, bool* set_aside) {
   const Problem& problem = in.problem;
   Workspaces ws = makeWorkspaces(problem.model, problem.threads);
   Start start = startRun(in, true, &ws);
@@ -475,8 +475,14 @@ Outcome runStac(const MethodInput& in) {
   Outcome out = finishRun(fitted, &start, loop.st, &ws);
   out.iterations = loop.iterations;
   out.converged = loop.converged;
-  if (&fitted.obs != &problem.obs) out.loss_disagreement = crossCheckWithCauchy(in, out);
+  *set_aside = &fitted.obs != &problem.obs;
   return out;
+}
+
+Outcome runStac(const MethodInput& in) {
+  bool set_aside = false;
+  Outcome out = stacRun(in, &set_aside);
+  return set_aside ? crossCheckWithCauchy(in, std::move(out)) : out;
 }
 
 Outcome finishRun(const Problem& problem, Start* start, const PassStats& final_pass,

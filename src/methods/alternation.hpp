@@ -48,6 +48,12 @@ struct Start {
 };
 Start startRun(const MethodInput& in, bool presolve, Workspaces* ws);
 
+// One STAC run from in's seed: the start, the alternation, the jumps out of
+// a wrong minimum, and under Huber's loss the gross readings set aside
+// (*set_aside: whether any were). runStac() is this and, after a set-aside,
+// the cross-check with Cauchy's loss (redescending_check.hpp).
+Outcome stacRun(const MethodInput& in, bool* set_aside);
+
 // The outcome of a run from `start` whose state ended at final_pass
 // (iterations and convergence left to the caller); moves start->state.
 Outcome finishRun(const Problem& problem, Start* start, const PassStats& final_pass,

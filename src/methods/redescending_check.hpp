@@ -59,7 +59,11 @@ std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber
 // The check itself, for runStac's Huber run `in` that set gross readings
 // aside and ended in `huber`: the whole run again from the same seed with
 // Cauchy's loss at the same scale (its progress reported as stage
-// "check"); the verdict reason, or empty.
-std::string crossCheckWithCauchy(const MethodInput& in, const Outcome& huber);
+// "check"). Where the two disagree, Huber's run goes on once more from
+// Cauchy's end, and that run is returned if it converged and fits Huber's
+// problem better at `huber`'s σ (the first run ended in a wrong minimum);
+// else `huber`. The outcome returned has loss_disagreement set (verdict
+// reason) when it and Cauchy's still disagree.
+Outcome crossCheckWithCauchy(const MethodInput& in, Outcome huber);
 
 }  // namespace stac
