@@ -185,10 +185,13 @@ std::vector<Robot> robots(int max_dof) {
 }
 
 // The variants of the issue: how the log is made and solved.
-enum class Variant { kPlain, kOutliers, kPartialSwings };
+enum class Variant { kPlain, kOutliers, kPartialSwings, kPostures };
 
 const char* variantName(Variant v) {
-  return v == Variant::kPlain ? "plain" : v == Variant::kOutliers ? "outliers" : "partial";
+  return v == Variant::kPlain      ? "plain"
+         : v == Variant::kOutliers ? "outliers"
+         : v == Variant::kPostures ? "postures"
+                                   : "partial";
 }
 
 // 5% of the present readings replaced by gross errors as the issue draws
@@ -218,14 +221,19 @@ void grossOutliers(const SensorSet& s, Log* log, std::mt19937_64& rng) {
   }
 }
 
+// Static postures per log: a real recording's size (TIAGo: 37), enough for
+// the bundled hand's 24 joints.
+constexpr int kPostures = 80;
+
 Simulation simulateVariant(const Robot& robot, const MeasurementModel& model,
                            const SensorParameters& truth, Variant v, int frames, int seed) {
   std::mt19937_64 rng(seed);
   Simulation sim;
   sim.q = simulateMotion(robot.model, frames, 100.0, rng);
   if (v == Variant::kPartialSwings) sim.q = test::partialSwings(robot.model, sim.q, rng);
+  if (v == Variant::kPostures) sim.q = test::staticPostures(robot.model, kPostures, rng);
   SimulationOptions so;
-  so.frames = frames;
+  so.frames = static_cast<int>(sim.q.rows());
   if (v == Variant::kOutliers) so.dropout = 0.3;
   sim.data = simulateLog(model, truth, sim.q, so, rng);
   if (v == Variant::kOutliers) grossOutliers(robot.truth.sensors, &sim.data.log, rng);
@@ -355,7 +363,8 @@ void expectBasin(const Robot& robot, const Tally& t) {
 TEST(Basin, PaperSeedingConvergesFromRandomTruths) {
   const char* max_dof = std::getenv("STAC_BASIN_MAX_DOF");  // larger robots of another set
   for (Robot& robot : robots(max_dof ? std::atoi(max_dof) : 12)) {
-    for (Variant v : {Variant::kPlain, Variant::kOutliers, Variant::kPartialSwings}) {
+    for (Variant v : {Variant::kPlain, Variant::kOutliers, Variant::kPartialSwings,
+                      Variant::kPostures}) {
       const Tally t = runVariant(robot, v, truthsPerVariant(), robot.frames);
       expectBasin(robot, t);
     }

@@ -120,4 +120,14 @@ RowMatrix partialSwings(const RobotModel& robot, RowMatrix q, std::mt19937_64& r
   return q;
 }
 
+RowMatrix staticPostures(const RobotModel& robot, int postures, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.05, 0.95);
+  const std::vector<JointRange> ranges = motionRanges(robot);
+  RowMatrix q(postures, robot.dof());
+  for (int t = 0; t < postures; ++t)
+    for (int j = 0; j < robot.dof(); ++j)
+      q(t, j) = ranges[j].lower + u(rng) * (ranges[j].upper - ranges[j].lower);
+  return q;
+}
+
 }  // namespace stac::test

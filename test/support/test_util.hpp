@@ -50,4 +50,9 @@ Eigen::VectorXd randomQ(const RobotModel& model, std::mt19937& rng);
 // issue's partial swings).
 RowMatrix partialSwings(const RobotModel& robot, RowMatrix q, std::mt19937_64& rng);
 
+// `postures` static postures (frames x dof), each joint uniform over the
+// central 90% of its range, independent from posture to posture (a
+// recording of postures held still, as the TIAGo's: no motion in time).
+RowMatrix staticPostures(const RobotModel& robot, int postures, std::mt19937_64& rng);
+
 }  // namespace stac::test
