@@ -47,6 +47,12 @@ struct CauchyFit {
   std::vector<UnidentifiableDirection> unidentifiable;
 };
 
+// The largest shift between Huber's and Cauchy's θ in units of `std` (per
+// θ entry), a bias Cauchy's result knows only modulo a turn compared modulo
+// that turn; *which: that entry's index.
+double shiftInStd(const MeasurementModel& model, const Outcome& huber, const CauchyFit& cauchy,
+                  const Eigen::VectorXd& std, int* which);
+
 // The verdict reason when `huber`'s θ is more than kLossShiftStd from
 // `cauchy`'s (empty: they agree), each entry measured in the larger of the
 // two fits' std: where Cauchy's weights leave a parameter weakly determined
@@ -59,10 +65,11 @@ std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber
 // The check itself, for runStac's Huber run `in` that set gross readings
 // aside and ended in `huber`: the whole run again from the same seed with
 // Cauchy's loss at the same scale (its progress reported as stage
-// "check"). Where the two disagree, Huber's run goes on once more from
-// Cauchy's end, and that run is returned if it converged and fits Huber's
-// problem better at `huber`'s σ (the first run ended in a wrong minimum);
-// else `huber`. The outcome returned has loss_disagreement set (verdict
+// "check"). Where the two differ beyond kLossShiftStd of either's std,
+// Huber's run goes on once more from Cauchy's end, and that run is
+// returned if it converged and fits every reading better under Cauchy's
+// loss at `huber`'s σ, the q_t solved for (the first run ended in a wrong
+// minimum); else `huber`. The outcome returned has loss_disagreement set (verdict
 // reason) when it and Cauchy's still disagree.
 Outcome crossCheckWithCauchy(const MethodInput& in, Outcome huber);
 
