@@ -78,9 +78,10 @@ CalibrationOptions checkOptions(const MethodInput& in, LossKind loss) {
 // its angles; none when it fails its own checks. Cauchy's loss is not
 // convex: its run may end in a wrong minimum, which says nothing about
 // Huber's. So Huber's fit is judged only against a Cauchy fit that passes
-// every check of its own. (Their costs do not tell: with σ adapted neither
-// run ends at its loss's exact minimum, and where both reach the truth
-// Huber's end often fits Cauchy's problem better than Cauchy's end does.)
+// every check of its own. (Nor does a cost tell which of Cauchy's end and
+// Huber's is right: with σ adapted neither run ends at its loss's exact
+// minimum, and where both reach the truth Huber's end often fits Cauchy's
+// problem better than Cauchy's end does. Two Huber ends are compared below.)
 std::optional<CauchyFit> cauchyFit(const MethodInput& in, RowMatrix* q) {
   const Problem& problem = in.problem;
   const RobustLoss cauchy(LossKind::kCauchy, problem.loss.scale());
