@@ -161,29 +161,38 @@ TEST(RedescendingCheck, RunsWhereHuberSetReadingsAsideAndAgreesOnTheArm) {
   EXPECT_TRUE(r.summary.verdict.empty());
 }
 
+// The arm with 5% gross readings, and Huber's fit of it (which reaches the
+// truth and agrees with Cauchy's).
+class HuberArm : public ::testing::Test {
+ protected:
+  HuberArm() {
+    test::addOutliers(p.sensors, 0.05, 99, &p.obs);
+    options.loss = LossKind::kHuber;
+    options.screen_spikes = false;
+    right = runStac(in);
+  }
+  test::ArmProblem p = test::makeArmProblem(500, 12);
+  const MeasurementModel model{p.robot, p.sensors};
+  const NoiseModel noise = NoiseModel::fromSeeds(p.sensors);
+  const RobustLoss loss{LossKind::kHuber, 3.0};
+  const Problem problem{model, p.obs, noise, loss, 2};
+  CalibrationOptions options;
+  const MethodInput in{problem, p.seed, options, Clock::now(), nullptr};
+  Outcome right;
+  const int j = 1, gain = model.thetaSpace().jointOffset(j);
+};
+
 // A Huber end in a wrong minimum (here the arm's fit with one pot's map
 // moved off it) that Cauchy's run contradicts: Huber's run goes on from
 // Cauchy's end, which fits Huber's problem better, and that fit is
 // returned, agreeing with Cauchy's. A Huber end that agrees comes back as
 // it was.
-TEST(RedescendingCheck, AWrongHuberEndIsReplacedByHubersRunFromCauchysEnd) {
-  test::ArmProblem p = test::makeArmProblem(500, 12);
-  test::addOutliers(p.sensors, 0.05, 99, &p.obs);
-  const MeasurementModel model(p.robot, p.sensors);
-  const NoiseModel noise = NoiseModel::fromSeeds(p.sensors);
-  const RobustLoss huber_loss(LossKind::kHuber, 3.0);
-  const Problem problem{model, p.obs, noise, huber_loss, 2};
-  CalibrationOptions o;
-  o.loss = LossKind::kHuber;
-  o.screen_spikes = false;
-  const MethodInput in{problem, p.seed, o, Clock::now(), nullptr};
-  const Outcome right = runStac(in);
+TEST_F(HuberArm, AWrongHuberEndIsReplacedByHubersRunFromCauchysEnd) {
   ASSERT_TRUE(right.loss_disagreement.empty()) << right.loss_disagreement;
   const Outcome same = crossCheckWithCauchy(in, right);
   EXPECT_EQ(same.iterations, right.iterations);
-  EXPECT_TRUE(same.theta.joint_sensor[1].gain == right.theta.joint_sensor[1].gain);
+  EXPECT_TRUE(same.theta.joint_sensor[j].gain == right.theta.joint_sensor[j].gain);
 
-  const int j = 1, gain = model.thetaSpace().jointOffset(j);
   Outcome wrong = right;
   wrong.theta.joint_sensor[j].gain *= 1.2;  // 20%: hundreds of its std
   ASSERT_GT(std::abs(wrong.theta.joint_sensor[j].gain - right.theta.joint_sensor[j].gain),
@@ -194,6 +203,21 @@ TEST(RedescendingCheck, AWrongHuberEndIsReplacedByHubersRunFromCauchysEnd) {
               right.uncertainty.std[gain]);
   EXPECT_GT(kept.iterations, wrong.iterations);
   EXPECT_TRUE(kept.converged);
+}
+
+// The other way round: Cauchy's end in a wrong minimum of its own problem
+// (here a pot's gain 20% off) against Huber's right end. Huber's run from
+// it returns to Huber's end, which fits every reading better under
+// Cauchy's loss than Cauchy's end does (at either run's σ): Cauchy's end
+// contradicts nothing, and Huber's fit comes back without a disagreement.
+TEST_F(HuberArm, ACauchyEndThatFitsWorseUnderItsOwnLossContradictsNothing) {
+  CauchyFit cauchy{right.theta, right.uncertainty.std, {}, right.q, right.noise};
+  cauchy.theta.joint_sensor[j].gain *= 1.2;
+  ASSERT_NE(lossDisagreement(model, right, cauchy), "");
+  const Outcome kept = reconcileWithCauchy(in, right, cauchy);
+  EXPECT_EQ(kept.loss_disagreement, "");
+  EXPECT_NEAR(kept.theta.joint_sensor[j].gain, right.theta.joint_sensor[j].gain,
+              right.uncertainty.std[gain]);
 }
 
 }  // namespace

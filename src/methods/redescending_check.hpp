@@ -45,6 +45,8 @@ struct CauchyFit {
   SensorParameters theta;
   Eigen::VectorXd std;  // per θ entry, as Outcome::uncertainty.std
   std::vector<UnidentifiableDirection> unidentifiable;
+  RowMatrix q;          // its joint angles (a start for Huber's run)
+  NoiseModel noise;     // its final σ
 };
 
 // The largest shift between Huber's and Cauchy's θ in units of `std` (per
@@ -65,12 +67,18 @@ std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber
 // The check itself, for runStac's Huber run `in` that set gross readings
 // aside and ended in `huber`: the whole run again from the same seed with
 // Cauchy's loss at the same scale (its progress reported as stage
-// "check"). Where the two differ beyond kLossShiftStd of either's std,
-// Huber's run goes on once more from Cauchy's end, and that run is
-// returned if it converged and fits every reading better under Cauchy's
-// loss at `huber`'s σ, the q_t solved for (the first run ended in a wrong
-// minimum); else `huber`. The outcome returned has loss_disagreement set (verdict
-// reason) when it and Cauchy's still disagree.
+// "check"), then reconcileWithCauchy() if Cauchy's result passes its own
+// checks; else `huber`.
 Outcome crossCheckWithCauchy(const MethodInput& in, Outcome huber);
+
+// Huber's end against Cauchy's. Where they differ beyond kLossShiftStd of
+// either's std, Huber's run goes on once more from Cauchy's end, and that
+// run replaces `huber` if it converged and fits every reading better
+// under Cauchy's loss at `huber`'s σ, the q_t solved for (the first run had
+// ended in a wrong minimum). The outcome returned has loss_disagreement
+// set (verdict reason) where it and Cauchy's still disagree, unless it fits
+// every reading better than Cauchy's end under Cauchy's loss at both runs'
+// σ (then Cauchy's run is the one in a wrong minimum of its problem).
+Outcome reconcileWithCauchy(const MethodInput& in, Outcome huber, const CauchyFit& cauchy);
 
 }  // namespace stac
