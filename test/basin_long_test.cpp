@@ -6,7 +6,8 @@
 // and every miss must carry verdict suspect (no silent wrong answer). Robots:
 // the bundled ones and the real public ones of STAC_ROBOTS_DIR with at most
 // 12 joints; variants: plain, 5% gross outliers + 30% marker dropout with a
-// Huber loss, partial off-centre swings, ur5 with continuous joints, TALOS
+// Huber loss, partial off-centre swings, 80 static postures (no motion in
+// time, as a real recording of held postures), ur5 with continuous joints, TALOS
 // from 2000 frames. Label "long": outside the default run; prints a table
 // row per robot and variant. STAC_BASIN_TRUTHS=N takes N truths instead of
 // 20 (a quicker look), STAC_BASIN_ONLY=robot/variant one row,
