@@ -46,7 +46,6 @@ struct CauchyFit {
   Eigen::VectorXd std;  // per θ entry, as Outcome::uncertainty.std
   std::vector<UnidentifiableDirection> unidentifiable;
   RowMatrix q;          // its joint angles (a start for Huber's run)
-  NoiseModel noise;     // its final σ
 };
 
 // The largest shift between Huber's and Cauchy's θ in units of `std` (per
@@ -76,9 +75,7 @@ Outcome crossCheckWithCauchy(const MethodInput& in, Outcome huber);
 // run replaces `huber` if it converged and fits every reading better
 // under Cauchy's loss at `huber`'s σ, the q_t solved for (the first run had
 // ended in a wrong minimum). The outcome returned has loss_disagreement
-// set (verdict reason) where it and Cauchy's still disagree, unless it fits
-// every reading better than Cauchy's end under Cauchy's loss at both runs'
-// σ (then Cauchy's run is the one in a wrong minimum of its problem).
+// set (verdict reason) where it and Cauchy's still disagree.
 Outcome reconcileWithCauchy(const MethodInput& in, Outcome huber, const CauchyFit& cauchy);
 
 }  // namespace stac
