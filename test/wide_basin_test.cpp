@@ -437,8 +437,14 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   // per pair a double flip, a wrist flip and a double half turn, the
   // three-joint wrist flips about j2 and j3, and the four-joint shoulder
   // flip about j2 and j3.
+  // And the whole robot mirrored, every joint about its zero.
   const std::vector<MinimumMove> moves = minimumMoves(wb.guesses(), wb.moves());
-  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 2u + 1u);
+  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 2u + 1u + 1u);
+  EXPECT_TRUE(moves.back().flip_about_zero);
+  EXPECT_EQ(moves.back().flip, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(std::count_if(moves.begin(), moves.end(),
+                          [](const MinimumMove& m) { return m.flip_about_zero; }),
+            1);
   auto count = [&](const MinimumMove& move) {
     return std::count_if(moves.begin(), moves.end(), [&](const MinimumMove& m) {
       return m.flip == move.flip && m.half_turn == move.half_turn;
@@ -454,6 +460,26 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   for (const MinimumMove& m : minimumMoves(held, wb.moves())) {
     EXPECT_EQ(std::count(m.flip.begin(), m.flip.end(), 2), 0);
     EXPECT_EQ(std::count(m.half_turn.begin(), m.half_turn.end(), 2), 0);
+  }
+}
+
+// The whole-robot mirror negates every joint's angle (about its zero: the
+// arm's limits are symmetric) and every pot's gain, so that every pot
+// predicts what it did.
+TEST(MinimumMoves, TheWholeRobotMirrorNegatesEveryAngleAndKeepsThePotsPredictions) {
+  ArmSetup s(arm(100));
+  const WideBasin wb = s.basin(s.p.seed);
+  const MinimumMove mirror = minimumMoves(wb.guesses(), wb.moves()).back();
+  ASSERT_TRUE(mirror.flip_about_zero);
+  Estimate est = atTheTruth(s.p);
+  applyMove(s.p.robot, wb.guesses(), mirror, &est.theta, &est.state.q);
+  EXPECT_LT((est.state.q + s.p.q_true).cwiseAbs().maxCoeff(), 1e-12);
+  for (int j = 0; j < 4; ++j) {
+    const GainBias& was = s.p.truth.joint_sensor[j];
+    const GainBias& now = est.theta.joint_sensor[j];
+    EXPECT_NEAR(now.gain, -was.gain, 1e-12) << j;
+    EXPECT_NEAR(now.gain * est.state.q(7, j) + now.bias, was.gain * s.p.q_true(7, j) + was.bias,
+                1e-12) << j;
   }
 }
 

@@ -346,6 +346,9 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
     SensorParameters theta = est->theta;
     QState moved = sub;
     applyMove(robot, guesses_, move, &theta, &moved.q);
+    // The whole robot mirrored: the marker group found anew for it.
+    if (move.flip_about_zero && marker_group_free_)
+      initialiseMarkerGroup(model_, sub_, moved, 3, threads_, ws_, &theta);
     // A whole turn that leaves fewer frames at or beyond the joint's limits.
     bool relieves = false;
     for (int i : move.whole_turn) {
@@ -360,7 +363,11 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
     }
   }
   if (!chosen) chosen = within;
-  if (chosen) applyMove(robot, guesses_, *chosen, &est->theta, &est->state.q);
+  if (chosen) {
+    applyMove(robot, guesses_, *chosen, &est->theta, &est->state.q);
+    if (chosen->flip_about_zero && marker_group_free_)
+      initialiseMarkerGroup(model_, obs_, est->state, 3, threads_, ws_, &est->theta);
+  }
   return chosen;
 }
 

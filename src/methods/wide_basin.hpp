@@ -133,6 +133,7 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 // guesses `whole_turn` a whole turn (both toward the middle of the limits).
 struct MinimumMove {
   std::vector<int> flip, half_turn, whole_turn;
+  bool flip_about_zero = false;  // its mirrors always about the joints' zeros (applyMove)
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
