@@ -143,10 +143,9 @@ Outcome reconcileWithCauchy(const MethodInput& in, Outcome huber, const CauchyFi
   const CalibrationOptions options = checkOptions(in, LossKind::kHuber);
   const MethodInput again{in.problem, cauchy.theta, options, in.start, &cauchy.q};
   Outcome restarted = stacRun(again, &set_aside);
-  const double first = redescendingCost(in, huber.theta, huber.q, huber.noise);
   Outcome kept = std::move(huber);
-  if (restarted.converged &&
-      redescendingCost(in, restarted.theta, restarted.q, kept.noise) < first) {
+  if (restarted.converged && redescendingCost(in, restarted.theta, restarted.q, kept.noise) <
+                                 redescendingCost(in, kept.theta, kept.q, kept.noise)) {
     restarted.initial_cost = kept.initial_cost;
     std::copy(kept.before_rms, kept.before_rms + kNumSensorGroups, restarted.before_rms);
     restarted.iterations += kept.iterations;

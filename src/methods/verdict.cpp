@@ -21,6 +21,11 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
   return buf;
 }
 
+// Whether the fit ran under a robust loss (the EKF ignores one).
+bool robustFit(const MethodInput& in) {
+  return in.options.loss != LossKind::kNone && in.options.method != Method::kEkf;
+}
+
 // Each group's fit against its seed σ: the fitted σ when σ was adapted, else
 // the residual RMS per row (a marker's Euclidean residual has three).
 // Under a robust loss only the adapted σ, which gross readings barely move
@@ -34,7 +39,7 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
 void checkGroups(const MethodInput& in, const CalibrationSummary& s,
                  std::vector<std::string>* why, bool flagged[kNumSensorGroups]) {
   const bool adapted = in.options.adapt_variance && in.options.method != Method::kEkf;
-  const bool robust = in.options.loss != LossKind::kNone && in.options.method != Method::kEkf;
+  const bool robust = robustFit(in);
   if (robust && !adapted) return;
   SpikeScreen spikes;
   bool screened = false;
@@ -250,10 +255,10 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, co
   }
   bool flagged[kNumSensorGroups] = {false, false, false};
   checkGroups(in, s, &why, flagged);
-  if (in.options.loss == LossKind::kNone || in.options.method == Method::kEkf)
-    checkSensors(in, r, &why);
-  else
+  if (robustFit(in))
     checkMedians(in, fit, r, flagged, &why);
+  else
+    checkSensors(in, r, &why);
   checkMarkers(in, r, &why);
   checkLimits(in, out, fit, r, &why);
   // Infinite is a std the data do not determine; NaN is a failed analysis.

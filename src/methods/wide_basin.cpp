@@ -345,10 +345,7 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   for (const MinimumMove& move : moves) {
     SensorParameters theta = est->theta;
     QState moved = sub;
-    applyMove(robot, guesses_, move, &theta, &moved.q);
-    // The whole robot mirrored: the marker group found anew for it.
-    if (move.flip_about_zero && marker_group_free_)
-      initialiseMarkerGroup(model_, sub_, moved, 3, threads_, ws_, &theta);
+    moveTo(move, false, sub_, &theta, &moved);
     // A whole turn that leaves fewer frames at or beyond the joint's limits.
     bool relieves = false;
     for (int i : move.whole_turn) {
@@ -363,12 +360,15 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
     }
   }
   if (!chosen) chosen = within;
-  if (chosen) {
-    applyMove(robot, guesses_, *chosen, &est->theta, &est->state.q);
-    if (chosen->flip_about_zero && marker_group_free_)
-      initialiseMarkerGroup(model_, obs_, est->state, 3, threads_, ws_, &est->theta);
-  }
+  if (chosen) moveTo(*chosen, false, obs_, &est->theta, &est->state);
   return chosen;
+}
+
+void WideBasin::moveTo(const MinimumMove& move, bool mirror_about_zero, const Observations& obs,
+                       SensorParameters* theta, QState* state) const {
+  applyMove(model_.robot(), guesses_, move, theta, &state->q, mirror_about_zero);
+  if (move.flip_about_zero && marker_group_free_)
+    initialiseMarkerGroup(model_, obs, *state, 3, threads_, ws_, theta);
 }
 
 namespace {
@@ -401,7 +401,7 @@ std::vector<MinimumMove> WideBasin::equivalentMoves(const Estimate& est) const {
   for (const MinimumMove& move : minimumMoves(guesses_, moves_)) {
     SensorParameters theta = est.theta;
     QState moved = sub;
-    applyMove(model_.robot(), guesses_, move, &theta, &moved.q, true);
+    moveTo(move, true, sub_, &theta, &moved);
     if (!withinLimits(guesses_, move, moved.q, lower, upper)) continue;
     if (refitCost(std::move(theta), std::move(moved)) <= (1 + kSameFit) * base) out.push_back(move);
   }

@@ -276,6 +276,11 @@ class WideBasin {
                      PotSteps pots = PotSteps::kGainBias) const;
   // Rows sub_frames_ of q (every frame of obs).
   RowMatrix subsampleAngles(const RowMatrix& q) const;
+  // applyMove on `state` (frames of `obs`: the subsample's or the log's);
+  // after a whole-robot mirror the marker group (mocap frame and markers)
+  // is found anew in closed form, which no other move needs.
+  void moveTo(const MinimumMove& move, bool mirror_about_zero, const Observations& obs,
+              SensorParameters* theta, QState* state) const;
   // The cost of every sensor over obs at est, the tendons fitted first.
   double fullCost(const Estimate& est) const;
   // theta with the tendons (which the marker-led steps leave at the seed)
