@@ -1,0 +1,63 @@
+// The wide-basin test's draws (issue 13): a robot with the sensors a user
+// would log, random truths as the paper's seeding must reach them, the
+// paper's seed, the logs of each variant, and the "reached" test. Shared by
+// the long basin test and by the regressions it found.
+#pragma once
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "stac/calibrate.hpp"
+#include "stac/sensors_file.hpp"
+#include "stac/simulate.hpp"
+
+namespace stac::test {
+
+struct Robot {
+  std::string name;
+  RobotModel model;
+  SensorsFile truth;
+  int frames;
+};
+
+// A public robot with the sensors a user would log without a sensors file,
+// the gauges removed by CAD-known markers (external_sensors.hpp).
+Robot externalRobot(RobotModel m, int frames);
+
+// A random truth around `base`: a random mocap frame, gains of both signs
+// over 0.3-3, biases up to ±1 rad-equivalent, free markers within 5 cm of
+// their link origins; fixed markers keep their position.
+SensorParameters randomTruth(const SensorSet& s, const SensorParameters& base, std::mt19937_64& rng);
+
+// The paper's seeding: gains 1, biases 0, free markers at their link
+// origins, the mocap frame identity; fixed parameters as in `truth`.
+SensorParameters paperSeed(const SensorSet& s, const SensorParameters& truth);
+
+// Converged to the truth: every estimated parameter within 4 of its reported
+// standard deviations, as the issue asks (a wrong local minimum is off by
+// tens or hundreds),
+// and nothing reported unidentifiable (the bundled seeds remove the gauges).
+// A continuous joint's bias is known modulo a turn times its gain, and so is
+// a bias the result itself reports known only modulo a turn (a joint whose
+// limits span more than a turn, moved over less: turn_ambiguity.hpp).
+bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParameters& truth,
+                  const CalibrationResult& r, std::string* why,
+                  std::vector<double>* z = nullptr);
+
+// The variants of the issue: how the log is made and solved.
+enum class Variant { kPlain, kOutliers, kPartialSwings, kPostures };
+
+const char* variantName(Variant v);
+
+// Static postures per log: a real recording's size (TIAGo: 37), enough for
+// the bundled hand's 24 joints.
+constexpr int kPostures = 80;
+
+// The log of one variant for `truth`, its motion and noise drawn from
+// `seed`: smooth motion, partial off-centre swings or static postures;
+// the outlier variant with 30% marker dropout and 5% gross readings.
+Simulation simulateVariant(const Robot& robot, const MeasurementModel& model,
+                           const SensorParameters& truth, Variant v, int frames, int seed);
+
+}  // namespace stac::test
