@@ -16,7 +16,8 @@
 // again from its truth and prints both fits, per sensor (a wrong minimum
 // fits worse; a miss that fits as well is a std too small);
 // STAC_BASIN_LOSS=cauchy runs the outlier rows under Cauchy's loss instead
-// of Huber's; STAC_BASIN_TRACE=1 prints every iteration's cost and RMS;
+// of Huber's; STAC_BASIN_TRACE=1 prints every iteration's cost and RMS
+// and the seconds since the run's start;
 // STAC_BASIN_NO_SCREEN=1 fits the outlier rows without setting spikes in
 // time aside first (spike_screen.hpp). Other robots without a rebuild:
 // STAC_ROBOTS_DIR=dir (its *.urdf instead of the configured set),
@@ -27,6 +28,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -125,9 +127,11 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
     if (v == Variant::kOutliers) o.loss = outlierLoss();
     if (std::getenv("STAC_BASIN_NO_SCREEN")) o.screen_spikes = false;  // to measure the screen
     if (std::getenv("STAC_BASIN_TRACE"))  // each iteration's cost and RMS, to stderr
-      o.progress = [](const IterationReport& r) {
-        std::fprintf(stderr, "    %-5s %3d cost %.9g rms %.4g %.4g %.4g\n", r.stage.c_str(),
-                     r.iteration, r.cost, r.rms[0], r.rms[1], r.rms[2]);
+      o.progress = [start = std::chrono::steady_clock::now()](const IterationReport& r) {
+        const std::chrono::duration<double> t = std::chrono::steady_clock::now() - start;
+        std::fprintf(stderr, "    %-5s %3d cost %.9g rms %.4g %.4g %.4g  %.1f s\n",
+                     r.stage.c_str(), r.iteration, r.cost, r.rms[0], r.rms[1], r.rms[2],
+                     t.count());
       };
     const CalibrationResult r = calibrate(robot.model, robot.truth.sensors,
                                           paperSeed(robot.truth.sensors, truth), obs, o);
