@@ -118,7 +118,7 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
   const char* noise_env = std::getenv("STAC_BASIN_NOISE_SEED");
   const int noise_seed = noise_env ? 7919 * std::atoi(noise_env) : 0;
   for (int k = 0; k < truths; ++k) {
-    const SensorParameters truth = randomTruth(robot.truth.sensors, robot.truth.theta, rng);
+    const SensorParameters truth = randomTruth(robot.model, robot.truth.sensors, robot.truth.theta, rng);
     if (pick && std::atoi(pick) != k) continue;
     const Simulation sim = simulateVariant(robot, model, truth, v, frames, 1000 + k + noise_seed);
     const Observations obs = bindLog(sim.data.log, robot.truth.sensors, "truth", 1.0);

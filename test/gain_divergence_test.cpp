@@ -116,7 +116,7 @@ TEST(GainDivergence, ARunConvergedWithAGainDivergedIsRestartedMirrored) {
       600);
   const SensorSet& sensors = go1.truth.sensors;
   std::mt19937_64 rng(2024);  // the basin test's draw of truths
-  const SensorParameters truth = test::randomTruth(sensors, go1.truth.theta, rng);
+  const SensorParameters truth = test::randomTruth(go1.model, sensors, go1.truth.theta, rng);
   const MeasurementModel model(go1.model, sensors);
   const Simulation sim =
       test::simulateVariant(go1, model, truth, test::Variant::kOutliers, go1.frames, 1000);

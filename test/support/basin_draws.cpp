@@ -43,7 +43,8 @@ void grossOutliers(const SensorSet& s, Log* log, std::mt19937_64& rng) {
 
 }  // namespace
 
-SensorParameters randomTruth(const SensorSet& s, const SensorParameters& base, std::mt19937_64& rng) {
+SensorParameters randomTruth(const RobotModel& robot, const SensorSet& s,
+                             const SensorParameters& base, std::mt19937_64& rng) {
   SensorParameters t = base;
   Eigen::Vector4d q(uni(rng, -1, 1), uni(rng, -1, 1), uni(rng, -1, 1), uni(rng, -1, 1));
   t.mocap.rotation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
@@ -52,9 +53,17 @@ SensorParameters randomTruth(const SensorSet& s, const SensorParameters& base, s
     if (!s.markers[m].fixed)
       t.marker_position[m] = Eigen::Vector3d(uni(rng, -0.05, 0.05), uni(rng, -0.05, 0.05),
                                              uni(rng, -0.05, 0.05));
-  for (auto& gb : t.joint_sensor) {
+  for (size_t j = 0; j < t.joint_sensor.size(); ++j) {
+    GainBias& gb = t.joint_sensor[j];
     gb.gain = (uni(rng, 0, 1) < 0.5 ? -1 : 1) * uni(rng, 0.3, 3.0);
     gb.bias = gb.gain * uni(rng, -1, 1);
+    // A linear sensor's gain per its stroke, as a rotary one's per radian:
+    // per metre, a finger's 4 cm stroke would swing its reading by its
+    // noise, and no log could calibrate it.
+    const MovableJoint& mj = robot.movableJoints()[s.joint_sensors[j].joint];
+    const double stroke = robot.upperLimits()[mj.q_index] - robot.lowerLimits()[mj.q_index];
+    if (mj.type == JointType::kPrismatic && std::isfinite(stroke) && stroke > 0)
+      gb.gain /= stroke;
   }
   for (auto& gb : t.tendon_sensor) {
     gb.gain = (uni(rng, 0, 1) < 0.5 ? -1 : 1) * std::abs(gb.gain) * uni(rng, 0.5, 2.0);

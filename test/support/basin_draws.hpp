@@ -26,9 +26,11 @@ struct Robot {
 Robot externalRobot(RobotModel m, int frames);
 
 // A random truth around `base`: a random mocap frame, gains of both signs
-// over 0.3-3, biases up to ±1 rad-equivalent, free markers within 5 cm of
-// their link origins; fixed markers keep their position.
-SensorParameters randomTruth(const SensorSet& s, const SensorParameters& base, std::mt19937_64& rng);
+// over 0.3-3 per radian (a prismatic joint's per its stroke), biases up to
+// ±1 rad-equivalent, free markers within 5 cm of their link origins; fixed
+// markers keep their position.
+SensorParameters randomTruth(const RobotModel& robot, const SensorSet& s,
+                             const SensorParameters& base, std::mt19937_64& rng);
 
 // The paper's seeding: gains 1, biases 0, free markers at their link
 // origins, the mocap frame identity; fixed parameters as in `truth`.
