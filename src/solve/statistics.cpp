@@ -34,10 +34,13 @@ std::vector<std::vector<MedianError>> medianErrors(const MeasurementModel& model
     for (std::vector<double>& e : errors[g]) {
       MedianError m;
       m.count = static_cast<int>(e.size());
-      m.median = std::numeric_limits<double>::quiet_NaN();
+      m.median = m.upper = std::numeric_limits<double>::quiet_NaN();
       if (!e.empty()) {
         std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
         m.median = e[e.size() / 2];
+        const size_t upper = static_cast<size_t>(kUpperShare * static_cast<double>(e.size() - 1));
+        std::nth_element(e.begin(), e.begin() + upper, e.end());
+        m.upper = e[upper];
       }
       out[g].push_back(m);
     }

@@ -19,12 +19,22 @@ void residualStatistics(const MeasurementModel& model, const SensorParameters& t
 // at its noise.
 constexpr double kMedianErrorInSigma[kNumSensorGroups] = {1.5382, 0.6745, 0.6745};
 
+// The share of a sensor's errors below `upper` (MedianError), and that
+// quantile of |N(0, σ²)| and of the norm of N(0, σ² I₃), in σ.
+constexpr double kUpperShare = 0.8;
+constexpr double kUpperErrorInSigma[kNumSensorGroups] = {2.1544, 1.2816, 1.2816};
+
 // Per group and sensor (SensorSet order): the median prediction error over
 // the frames of obs at (θ, q), in raw units (a marker: Euclidean), and how
 // many readings it is over (median NaN without any). Medians, so that gross
 // outliers barely move them: a wrong sign or minimum shows in every frame.
+// `upper`: the error below which kUpperShare of them lie, which gross
+// readings move only where they are more than 1 - kUpperShare of the
+// sensor's (a wrong minimum that fits most frames and leaves the rest far
+// off, which a redescending loss then ignores).
 struct MedianError {
   double median = 0.0;
+  double upper = 0.0;
   int count = 0;
 };
 std::vector<std::vector<MedianError>> medianErrors(const MeasurementModel& model,
