@@ -95,9 +95,6 @@ struct Tally {
   int truths = 0, reached = 0, flagged_misses = 0, silent_misses = 0, false_alarms = 0;
 };
 
-// One robot, one variant: kTruths random truths from the paper's seeding.
-// Counts the truths reached, and the misses the verdict flags (exit 4) or
-// not (a silent wrong answer).
 // STAC_BASIN_ONLY: a comma list of rows ("arm4/outliers") and robots ("go1").
 bool selected(const std::string& robot, const std::string& variant) {
   const char* only = std::getenv("STAC_BASIN_ONLY");
@@ -107,6 +104,9 @@ bool selected(const std::string& robot, const std::string& variant) {
          list.find("," + robot + "/" + variant + ",") != std::string::npos;
 }
 
+// One robot, one variant: kTruths random truths from the paper's seeding.
+// Counts the truths reached, and the misses the verdict flags (exit 4) or
+// not (a silent wrong answer).
 Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
   Tally tally;
   if (!selected(robot.name, variantName(v))) return tally;

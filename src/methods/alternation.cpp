@@ -394,9 +394,9 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
 // that would pull the joint back misfit, and so weigh almost nothing, once
 // the pot holds it still (an unseen Go1 and A1 with 5% gross readings: a
 // calf pot's gain -31,000 from a start of -3.4 (the truth's +2.9), the
-// joint frozen, its nearby marker at twice its sigma, converged in 17 iterations, and no
-// check of the verdict fails). A converged run with such a gain gets the
-// same restart.
+// joint frozen, its nearby marker at twice its σ, converged in 17
+// iterations, and no check of the verdict fails). A converged run with
+// such a gain gets the same restart.
 constexpr int kDivergenceCheck = 30;
 constexpr double kDivergedGain = 4.0;
 

@@ -128,13 +128,13 @@ void checkMedians(const MethodInput& in, const Fit& fit, const CalibrationResult
   for (int g = 0; g < kNumSensorGroups; ++g) {
     if (ratios[g].empty() || flagged[g]) continue;
     std::vector<SensorRatio> m = ratios[g];
-    auto by = [](double SensorRatio::*field) {
-      return [field](const SensorRatio& a, const SensorRatio& b) { return a.*field < b.*field; };
-    };
-    std::sort(m.begin(), m.end(), by(&SensorRatio::median));
+    std::sort(m.begin(), m.end(),
+              [](const SensorRatio& a, const SensorRatio& b) { return a.median < b.median; });
     const double group = m[m.size() / 2].median;
     const SensorRatio worst = m.back();
-    const SensorRatio worst_upper = *std::max_element(m.begin(), m.end(), by(&SensorRatio::upper));
+    const SensorRatio worst_upper = *std::max_element(
+        m.begin(), m.end(),
+        [](const SensorRatio& a, const SensorRatio& b) { return a.upper < b.upper; });
     const std::string name = groupName(static_cast<SensorGroup>(g));
     const auto sensor = [&](int i) {
       return r.sensors.sensorName(static_cast<SensorGroup>(g), i);

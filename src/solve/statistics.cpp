@@ -36,10 +36,14 @@ std::vector<std::vector<MedianError>> medianErrors(const MeasurementModel& model
       m.count = static_cast<int>(e.size());
       m.median = m.upper = std::numeric_limits<double>::quiet_NaN();
       if (!e.empty()) {
-        std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
-        m.median = e[e.size() / 2];
-        const size_t upper = static_cast<size_t>(kUpperShare * static_cast<double>(e.size() - 1));
-        std::nth_element(e.begin(), e.begin() + upper, e.end());
+        const size_t mid = e.size() / 2;
+        std::nth_element(e.begin(), e.begin() + mid, e.end());
+        m.median = e[mid];
+        // Above the median's place every error is at least the median: the
+        // upper quantile is found among those alone.
+        const size_t upper = std::max(
+            mid, static_cast<size_t>(kUpperShare * static_cast<double>(e.size() - 1)));
+        std::nth_element(e.begin() + mid, e.begin() + upper, e.end());
         m.upper = e[upper];
       }
       out[g].push_back(m);
