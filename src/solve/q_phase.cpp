@@ -6,6 +6,7 @@
 
 #include "solve/lm_damping.hpp"
 #include "solve/parallel.hpp"
+#include "solve/whole_turns.hpp"
 
 namespace stac {
 
@@ -118,6 +119,8 @@ struct FrameSolver {
   std::vector<int> free_cols;  // with options.frozen: the columns not frozen
   Eigen::MatrixXd A_free;      // their damped system (factored in place), solution
   Eigen::VectorXd step_free;
+  std::vector<TurnSensor> turn_sensors;  // whole_turns.hpp
+  Eigen::VectorXd q_turned;
 
   FrameSolver(const MeasurementModel& m, const SensorParameters& th,
               const NoiseModel& n, const RobustLoss& l, const QPhaseOptions& o)
@@ -136,6 +139,7 @@ struct FrameSolver {
     const int k = static_cast<int>(free_cols.size());
     A_free.resize(k, k);
     step_free.resize(k);
+    turn_sensors = turnSensors(m, lower, upper, o.frozen);
   }
 
   void project(Eigen::VectorXd* q) const { *q = q->cwiseMax(lower).cwiseMin(upper); }
@@ -169,6 +173,41 @@ struct FrameSolver {
     Eigen::LLT<Eigen::MatrixXd> llt(A);
     step = llt.solve(-g);
     if (llt.info() != Eigen::Success || !step.allFinite()) step.setZero();
+  }
+
+  // The q-phase's step of one frame, as options.method says.
+  double solve(const FrameReadings& fr, Eigen::Ref<Eigen::RowVectorXd> q_row, double* lambda,
+               FrameWorkspace* ws) {
+    switch (options.method) {
+      case QPhaseMethod::kLmIter: return lm(fr, q_row, lambda, 1, ws);
+      case QPhaseMethod::kLmBatch: return lm(fr, q_row, lambda, options.max_steps, ws);
+      case QPhaseMethod::kBfgs: return bfgs(fr, q_row, options.max_steps, ws);
+    }
+    return lm(fr, q_row, lambda, 1, ws);
+  }
+
+  // Moves q by the whole turns a joint sensor's reading asks for where that
+  // lowers the frame's cost (whole_turns.hpp). Returns the cost.
+  double turn(const FrameReadings& fr, Eigen::Ref<Eigen::RowVectorXd> q_row, double cost,
+              FrameWorkspace* ws) {
+    if (fr.joint == nullptr) return cost;
+    for (const TurnSensor& ts : turn_sensors) {
+      const int k = turnsToFit(ts, theta.joint_sensor[ts.sensor], noise.joint[ts.sensor],
+                               fr.joint[ts.sensor], q_row[ts.column]);
+      if (k == 0) continue;
+      q_turned = q_row.transpose();
+      q_turned[ts.column] += 2 * M_PI * k;
+      if (q_turned[ts.column] < lower[ts.column] || q_turned[ts.column] > upper[ts.column])
+        continue;
+      // Better beyond rounding: a turn leaves the kinematics the same but
+      // for the last bits of sin and cos.
+      const double c = eval(fr, q_turned, false, ws);
+      if (c < cost * (1 - 1e-9)) {
+        q_row = q_turned.transpose();
+        cost = c;
+      }
+    }
+    return cost;
   }
 
   // Levenberg-Marquardt; returns the final cost.
@@ -283,17 +322,11 @@ double qPhase(const MeasurementModel& model, const SensorParameters& theta,
     for (int t = chunk * kFramesPerChunk; t < end; ++t) {
       const FrameReadings fr = frameReadings(obs, t);
       auto q_row = state->q.row(t);
-      switch (options.method) {
-        case QPhaseMethod::kLmIter:
-          state->cost[t] = solver.lm(fr, q_row, &state->lambda[t], 1, &ws);
-          break;
-        case QPhaseMethod::kLmBatch:
-          state->cost[t] = solver.lm(fr, q_row, &state->lambda[t], options.max_steps, &ws);
-          break;
-        case QPhaseMethod::kBfgs:
-          state->cost[t] = solver.bfgs(fr, q_row, options.max_steps, &ws);
-          break;
-      }
+      state->cost[t] = solver.solve(fr, q_row, &state->lambda[t], &ws);
+      // A frame turned is solved again from there: it left its basin.
+      const double before = state->cost[t];
+      state->cost[t] = solver.turn(fr, q_row, before, &ws);
+      if (state->cost[t] < before) state->cost[t] = solver.solve(fr, q_row, &state->lambda[t], &ws);
     }
   });
   return state->cost.sum();
@@ -318,9 +351,14 @@ double trackingPass(const MeasurementModel& model, const SensorParameters& theta
     for (int t = begin; t < end; ++t) {
       if (t == begin) state->q.row(t) = start.transpose();
       else state->q.row(t) = state->q.row(t - 1);
-      state->cost[t] = solvers[tid].lm(frameReadings(obs, t), state->q.row(t),
-                                       &state->lambda[t], options.max_steps,
-                                       &(*workspaces)[tid]);
+      const FrameReadings fr = frameReadings(obs, t);
+      FrameWorkspace* ws = &(*workspaces)[tid];
+      FrameSolver& solver = solvers[tid];
+      const double before =
+          solver.lm(fr, state->q.row(t), &state->lambda[t], options.max_steps, ws);
+      state->cost[t] = solver.turn(fr, state->q.row(t), before, ws);
+      if (state->cost[t] < before)
+        state->cost[t] = solver.lm(fr, state->q.row(t), &state->lambda[t], options.max_steps, ws);
     }
   });
   return state->cost.sum();
