@@ -130,6 +130,28 @@ TEST(RedescendingCheck, ABiasKnownModuloATurnIsComparedModuloThatTurn) {
   EXPECT_NE(lossDisagreement(a.model, huber, cauchyAt(cauchy, huber, {other})), "");
 }
 
+// A pot's bias on a continuous joint is the same fit a whole turn away
+// (the markers see the joint only modulo a turn), listed or not.
+TEST(RedescendingCheck, AContinuousJointsPotBiasIsComparedModuloATurn) {
+  std::string urdf = test::kArmUrdf;
+  const std::string j1 = R"(<joint name="j1" type="revolute">)";
+  urdf.replace(urdf.find(j1), j1.size(), R"(<joint name="j1" type="continuous">)");
+  const RobotModel robot = RobotModel::fromString(urdf, "arm4_continuous_base");
+  const SensorsFile truth = parseSensorsYaml(test::kArmTruth, "arm4_truth", robot);
+  const MeasurementModel model(robot, truth.sensors);
+  const ThetaSpace& space = model.thetaSpace();
+  Outcome huber;
+  huber.theta = truth.theta;
+  huber.uncertainty.std = Eigen::VectorXd::Constant(space.size(), 0.01);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(space.size());
+  d[space.jointOffset(0) + 1] = 2 * M_PI * std::abs(truth.theta.joint_sensor[0].gain) + 0.01;
+  EXPECT_EQ(lossDisagreement(model, huber, cauchyAt(space.plus(truth.theta, d), huber)), "");
+  // j2 (limited to ±1.2) is no such joint.
+  d.setZero();
+  d[space.jointOffset(1) + 1] = 2 * M_PI * std::abs(truth.theta.joint_sensor[1].gain) + 0.01;
+  EXPECT_NE(lossDisagreement(model, huber, cauchyAt(space.plus(truth.theta, d), huber)), "");
+}
+
 // How many progress reports of a run come from the check's Cauchy run.
 int checkReports(const test::ArmProblem& p, const Observations& obs, LossKind loss,
                  CalibrationResult* r) {

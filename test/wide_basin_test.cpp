@@ -9,12 +9,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "stac/calibrate.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
+#include "support/arm_files.hpp"
 #include "support/arm_fixture.hpp"
 #include "support/test_util.hpp"
 
@@ -450,8 +452,8 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
       return m.flip == move.flip && m.half_turn == move.half_turn;
     });
   };
-  EXPECT_EQ(count({{1}, {0, 2}, {}}), 1);
-  EXPECT_EQ(count({{1, 2}, {0, 3}, {}}), 1);
+  EXPECT_EQ(count({{1}, {0, 2}, {}, false, {}}), 1);
+  EXPECT_EQ(count({{1, 2}, {0, 3}, {}, false, {}}), 1);
   std::vector<PotGuess> held = wb.guesses();
   held[2].bias_held = true;
   for (const MinimumMove& m : minimumMoves(held, wb.moves()))
@@ -491,7 +493,7 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAWristFlip) {
   const WideBasin wb = s.basin(s.p.seed);
   Estimate est = atTheTruth(s.p);
   EXPECT_FALSE(wb.jumpToBetterMinimum(&est));
-  const MinimumMove wrist_flip{{3}, {2}, {}};
+  const MinimumMove wrist_flip{{3}, {2}, {}, false, {}};
   applyMove(s.p.robot, wb.guesses(), wrist_flip, &est.theta, &est.state.q);
   ASSERT_NE(est.theta.joint_sensor[3].gain, s.p.truth.joint_sensor[3].gain);
   const auto jump = wb.jumpToBetterMinimum(&est);
@@ -522,6 +524,44 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
   for (int j = 0; j < 4; ++j)
     EXPECT_NEAR(est.theta.joint_sensor[j].bias, s.p.truth.joint_sensor[j].bias, 1e-9) << j;
   EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
+}
+
+// The arm with j4 continuous (its motion, within ±1.2, unchanged): j4's pot
+// map at an eighth of its gain, the frames' angles with it, spread over
+// 8 times the motion (several turns), each a turn or more from where the
+// markers put it (the unseen TIAGo wheel's miss of the basin test). The
+// wrap gathers them into one turn and finds the map again; a joint with
+// limits under a turn, or a motion within one, is offered no wrap.
+TEST(WideBasinAfterConvergence, WrapsAContinuousJointsMotionSpreadOverTurns) {
+  test::ArmProblem p = arm(300);
+  std::string urdf = test::kArmUrdf;
+  const std::string j4 = R"(<joint name="j4" type="revolute">)";
+  const size_t at = urdf.find(j4);
+  ASSERT_NE(at, std::string::npos);
+  urdf.replace(at, j4.size(), R"(<joint name="j4" type="continuous">)");
+  p.robot = RobotModel::fromString(urdf, "arm4_continuous_wrist");
+  ArmSetup s(std::move(p));
+  const WideBasin wb = s.basin(s.p.seed);
+  const PotGuess& g = wb.guesses()[3];
+  ASSERT_EQ(g.column, 3);
+  EXPECT_TRUE(wrapMoves(s.p.robot, wb.guesses(), s.p.q_true).empty());
+  Estimate est = atTheTruth(s.p);
+  GainBias& map = est.theta.joint_sensor[g.sensor];
+  const double mean = s.p.q_true.col(3).mean();
+  est.state.q.col(3) = (mean + 8 * (s.p.q_true.col(3).array() - mean)).matrix();
+  map.bias += map.gain * mean * (1 - 1.0 / 8);
+  map.gain /= 8;
+  const std::vector<MinimumMove> wraps = wrapMoves(s.p.robot, wb.guesses(), est.state.q);
+  ASSERT_EQ(wraps.size(), 1u);
+  EXPECT_EQ(wraps[0].wrap, std::vector<int>{3});
+  const auto jump = wb.jumpToBetterMinimum(&est);
+  ASSERT_TRUE(jump);
+  EXPECT_EQ(jump->wrap, std::vector<int>{3});
+  const GainBias& truth = s.p.truth.joint_sensor[g.sensor];
+  EXPECT_NEAR(map.gain, truth.gain, 0.02 * std::abs(truth.gain));
+  EXPECT_NEAR(std::remainder(map.bias - truth.bias, 2 * M_PI * truth.gain), 0.0, 0.05);
+  // The same arm as the fixture builds it (j4 within ±1.2): no wrap.
+  EXPECT_TRUE(wrapMoves(arm(10).robot, wb.guesses(), est.state.q * 8).empty());
 }
 
 // ---- The whole initialisation ----

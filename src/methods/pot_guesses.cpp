@@ -213,10 +213,37 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
     if (guesses[i].bias_held || !revolute || !std::isfinite(span)) continue;
     if (span > 2 * M_PI ||
         std::find(mostly_at_limit.begin(), mostly_at_limit.end(), j) != mostly_at_limit.end())
-      moves.push_back({{}, {}, {i}});
+      moves.push_back({{}, {}, {i}, false, {}});
   }
   return moves;
 }
+
+std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                                   const RowMatrix& q) {
+  std::vector<MinimumMove> moves;
+  for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
+    const int j = guesses[i].column;
+    const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type != JointType::kPrismatic;
+    const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
+    if (!revolute || !(span > 2 * M_PI) || q.rows() == 0) continue;
+    if (q.col(j).maxCoeff() - q.col(j).minCoeff() > 2 * M_PI) moves.push_back({{}, {}, {}, false, {i}});
+  }
+  return moves;
+}
+
+namespace {
+// Each angle of column g.column moved by whole turns into the turn about
+// the column's circular mean.
+void wrapAngles(const PotGuess& g, RowMatrix* q) {
+  double s = 0, c = 0;
+  for (int t = 0; t < q->rows(); ++t) s += std::sin((*q)(t, g.column)), c += std::cos((*q)(t, g.column));
+  const double centre = std::atan2(s, c);
+  for (int t = 0; t < q->rows(); ++t) {
+    double& a = (*q)(t, g.column);
+    a -= 2 * M_PI * std::round((a - centre) / (2 * M_PI));
+  }
+}
+}  // namespace
 
 std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves) {
@@ -225,11 +252,11 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   std::vector<std::vector<int>> pairs;  // {above, below}
   for (const std::vector<int>& m : sign_moves) {
     if (touchesFixed(guesses, m)) continue;
-    moves.push_back({m, {}, {}});
-    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m, {}});
+    moves.push_back({m, {}, {}, false, {}});
+    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m, {}, false, {}});
     if (m.size() == 2 && turnable(m[0])) {  // m[0] is above m[1]
-      moves.push_back({{m[1]}, {m[0]}, {}});
-      if (turnable(m[1])) moves.push_back({{}, m, {}});
+      moves.push_back({{m[1]}, {m[0]}, {}, false, {}});
+      if (turnable(m[1])) moves.push_back({{}, m, {}, false, {}});
     }
     if (m.size() == 2) pairs.push_back(m);
   }
@@ -238,7 +265,7 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   for (const std::vector<int>& up : pairs)
     for (const std::vector<int>& down : pairs)
       if (up[1] == down[0] && turnable(up[0]) && turnable(down[1]))
-        moves.push_back({{up[1]}, {up[0], down[1]}, {}});
+        moves.push_back({{up[1]}, {up[0], down[1]}, {}, false, {}});
   // The shoulder flip of four: two neighbours mirrored (an elbow's
   // parallel axes), the ones above and below them half a turn (a Kinova
   // Jaco's q1 + π, −q2, −q3, q4 + π about its limits' zeros: a random truth
@@ -247,7 +274,7 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
     for (const std::vector<int>& mid : pairs)
       for (const std::vector<int>& down : pairs)
         if (up[1] == mid[0] && mid[1] == down[0] && turnable(up[0]) && turnable(down[1]))
-          moves.push_back({{mid[0], mid[1]}, {up[0], down[1]}, {}});
+          moves.push_back({{mid[0], mid[1]}, {up[0], down[1]}, {}, false, {}});
   // Every joint mirrored at once, the mocap frame's closed form turning
   // with them: where every joint's axis is perpendicular to one direction,
   // a half turn of the whole robot about it reverses every axis (Finger
@@ -256,7 +283,7 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   // 1.7 σ, silent, in 2 of 10 partial-swing truths).
   std::vector<int> all;
   for (int i = 0; i < static_cast<int>(guesses.size()); ++i) all.push_back(i);
-  if (all.size() >= 2 && !touchesFixed(guesses, all)) moves.push_back({all, {}, {}, true});
+  if (all.size() >= 2 && !touchesFixed(guesses, all)) moves.push_back({all, {}, {}, true, {}});
   return moves;
 }
 
@@ -292,6 +319,7 @@ void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
   }
   for (int i : move.half_turn) turn(robot, guesses[i], 1, theta, q);
   for (int i : move.whole_turn) turn(robot, guesses[i], 2, theta, q);
+  for (int i : move.wrap) wrapAngles(guesses[i], q);
 }
 
 }  // namespace stac

@@ -31,14 +31,22 @@ double largestShiftInStd(const ThetaSpace& space, const SensorParameters& a,
 double shiftInStd(const MeasurementModel& model, const Outcome& huber, const CauchyFit& cauchy,
                   const Eigen::VectorXd& std, int* which) {
   const ThetaSpace& space = model.thetaSpace();
-  // A bias Cauchy's result knows only modulo a turn (turn_ambiguity.hpp):
-  // a whole turn apart is the same fit.
+  // A bias Cauchy's result knows only modulo a turn (turn_ambiguity.hpp),
+  // or a pot's on a continuous joint, which the markers see only modulo a
+  // turn: a whole turn apart is the same fit (an unseen TIAGo's wheel pot,
+  // Huber's and Cauchy's biases a turn apart: "287 std", a false alarm).
   Eigen::VectorXd period = Eigen::VectorXd::Zero(space.size());
-  for (const UnidentifiableDirection& u : cauchy.unidentifiable) {
-    if (u.reason.find("modulo a turn") == std::string::npos || u.parameters.empty()) continue;
-    for (int i = 0; i < space.size(); ++i)
-      if (space.names()[i] == u.parameters[0] && space.entry(i).block == ThetaBlock::kJointSensor)
-        period[i] = 2 * M_PI * std::abs(cauchy.theta.joint_sensor[space.entry(i).item].gain);
+  const RobotModel& robot = model.robot();
+  const auto& pots = model.sensors().joint_sensors;
+  for (int i = 0; i < space.size(); ++i) {
+    const ThetaEntry& e = space.entry(i);
+    if (e.block != ThetaBlock::kJointSensor || e.component != 1) continue;
+    const MovableJoint& mj = robot.movableJoints()[pots[e.item].joint];
+    bool turns = mj.type == JointType::kContinuous && !mj.is_mimic;
+    for (const UnidentifiableDirection& u : cauchy.unidentifiable)
+      turns |= u.reason.find("modulo a turn") != std::string::npos && !u.parameters.empty() &&
+               u.parameters[0] == space.names()[i];
+    if (turns) period[i] = 2 * M_PI * std::abs(cauchy.theta.joint_sensor[e.item].gain);
   }
   return largestShiftInStd(space, huber.theta, cauchy.theta, std, which, &period);
 }

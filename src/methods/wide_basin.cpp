@@ -342,6 +342,7 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   std::optional<MinimumMove> chosen, within;
   std::vector<MinimumMove> moves = minimumMoves(guesses_, moves_);
   for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
+  for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
   for (const MinimumMove& move : moves) {
     SensorParameters theta = est->theta;
     QState moved = sub;
@@ -366,9 +367,23 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
 
 void WideBasin::moveTo(const MinimumMove& move, bool mirror_about_zero, const Observations& obs,
                        SensorParameters* theta, QState* state) const {
+  // A wrap gathers where the markers put each frame (they see the joint
+  // modulo a turn); the angles the pots' maps put there are what is wrong.
+  if (!move.wrap.empty()) {
+    QPhaseOptions markers = free_only_;
+    markers.max_steps = 10;
+    markers.frozen.assign(model_.dof(), true);
+    for (int i : move.wrap) markers.frozen[guesses_[i].column] = false;
+    qPhase(model_, *theta, noise_, loss_, obs, markers, ws_, state);
+  }
   applyMove(model_.robot(), guesses_, move, theta, &state->q, mirror_about_zero);
   if (move.flip_about_zero && marker_group_free_)
     initialiseMarkerGroup(model_, obs, *state, 3, threads_, ws_, theta);
+  if (!move.wrap.empty()) {
+    ThetaPhaseOptions to;
+    to.threads = threads_;
+    thetaPhase(model_, noise_, loss_, obs, *state, to, ws_, theta);
+  }
 }
 
 namespace {
@@ -448,27 +463,17 @@ double WideBasin::fullCost(const Estimate& est) const {
                    FrameOptions(), threads_, ws_, &state);
 }
 
-SensorParameters WideBasin::run(QState* state) const {
-  const QState neutral = *state;
-  const Candidate searched = guesses_.empty() ? Candidate() : searchPotMaps();
-  Estimate est = estimateFrom(guesses_.empty() ? nullptr : &searched, std::move(*state));
-  // A marker or pot still far off its noise: the sweeps' start (swings
-  // about each range's middle) may have been wrong. The tree-order search
-  // assumes nothing about the swings; its estimate replaces the first if
-  // every sensor then fits clearly better (a mirror image that fits about
-  // as well is no reason to leave the sweeps' answer). Only where a marker
-  // or the mocap frame is held: with every part free, mirror images of the
-  // whole fit can be equally good, and a fit cannot choose between them.
-  // (Markers and pots: the tree-order search fits nothing else, and a
-  // tendon's misfit is the sign re-check's.)
-  if (marker_group_free_ && !guesses_.empty() && gaugeHeld(model_.sensors()) &&
-      someSensorMisfits(model_, est.theta, noise_, sub_, subsampleAngles(est.state.q),
-                        kRestartMisfit, 0.0)) {
-    if (const auto tree = treeOrderMaps(model_, sub_, loss_, guesses_, seed_, threads_)) {
-      Estimate alt = estimateFrom(&*tree, neutral);
-      if (fullCost(alt) < kClearlyBetter * fullCost(est)) est = std::move(alt);
-    }
-  }
+std::optional<Estimate> WideBasin::treeOrderEstimate(const QState& neutral) const {
+  // Only where a marker or the mocap frame is held: with every part free,
+  // mirror images of the whole fit can be equally good, and a fit cannot
+  // choose between them.
+  if (!marker_group_free_ || guesses_.empty() || !gaugeHeld(model_.sensors())) return std::nullopt;
+  const auto tree = treeOrderMaps(model_, sub_, loss_, guesses_, seed_, threads_);
+  if (!tree) return std::nullopt;
+  return estimateFrom(&*tree, neutral);
+}
+
+SensorParameters WideBasin::finish(Estimate est, QState* state) const {
   ThetaPhaseOptions pots;
   pots.threads = threads_;
   pots.update[0] = false;
@@ -477,12 +482,47 @@ SensorParameters WideBasin::run(QState* state) const {
   return est.theta;
 }
 
+SensorParameters WideBasin::run(QState* state) const {
+  const QState neutral = *state;
+  const Candidate searched = guesses_.empty() ? Candidate() : searchPotMaps();
+  Estimate est = estimateFrom(guesses_.empty() ? nullptr : &searched, std::move(*state));
+  // A marker or pot still far off its noise: the sweeps' start (swings
+  // about each range's middle) may have been wrong. The tree-order search
+  // assumes nothing about the swings; its estimate replaces the first if
+  // every sensor then fits clearly better (a mirror image that fits about
+  // as well is no reason to leave the sweeps' answer). (Markers and pots:
+  // the tree-order search fits nothing else, and a tendon's misfit is the
+  // sign re-check's.)
+  if (someSensorMisfits(model_, est.theta, noise_, sub_, subsampleAngles(est.state.q),
+                        kRestartMisfit, 0.0))
+    if (std::optional<Estimate> alt = treeOrderEstimate(neutral))
+      if (fullCost(*alt) < kClearlyBetter * fullCost(est)) est = std::move(*alt);
+  return finish(std::move(est), state);
+}
+
+std::optional<SensorParameters> WideBasin::runTreeOrder(QState* state) const {
+  std::optional<Estimate> est = treeOrderEstimate(*state);
+  if (!est) return std::nullopt;
+  return finish(std::move(*est), state);
+}
+
 SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Observations& obs,
                                          const NoiseModel& noise, const RobustLoss& loss,
                                          int threads, std::vector<FrameWorkspace>* ws,
                                          SensorParameters theta, QState* state,
                                          bool coupled_steps) {
   return WideBasin(model, obs, noise, loss, threads, ws, theta, coupled_steps).run(state);
+}
+
+std::optional<SensorParameters> treeOrderInitialisation(const MeasurementModel& model,
+                                                        const Observations& obs,
+                                                        const NoiseModel& noise,
+                                                        const RobustLoss& loss, int threads,
+                                                        std::vector<FrameWorkspace>* ws,
+                                                        SensorParameters theta, QState* state,
+                                                        bool coupled_steps) {
+  return WideBasin(model, obs, noise, loss, threads, ws, theta, coupled_steps)
+      .runTreeOrder(state);
 }
 
 }  // namespace stac

@@ -131,9 +131,13 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 // A discrete jump between minima of the pots' maps: the guesses `flip`
 // mirrored (flipSign), the guesses `half_turn` moved half a turn, the
 // guesses `whole_turn` a whole turn (both toward the middle of the limits).
+// The guesses `wrap`: each frame's angle moved by whole turns into the one
+// turn about the column's circular mean (wrapMoves), the pots' maps then
+// re-fitted (WideBasin::moveTo).
 struct MinimumMove {
   std::vector<int> flip, half_turn, whole_turn;
   bool flip_about_zero = false;  // its mirrors always about the joints' zeros (applyMove)
+  std::vector<int> wrap;
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
@@ -153,6 +157,18 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
 // a minimum of exactly the truth's cost). None that changes a held bias.
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses, const RowMatrix& q);
+// Each guess on a joint that turns freely (continuous, or limits spanning
+// more than a turn) whose angles in q span more than a turn: all of them
+// into one turn. The markers see such a joint only modulo a turn, so a pot
+// map at a wrong scale (the initialisation's guess of how much of a turn
+// the log sweeps) can hold the frames' angles several turns apart, each
+// where the markers fit it best, and no local step brings them together:
+// an unseen TIAGo's wheel on partial swings converged with its pot's gain
+// at 0.32 (truth 2.53), the motion 7.8 times the truth's, the wheel's
+// marker at 8.4 times its σ. A log that sweeps more than a turn has no
+// such move that fits better.
+std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                                   const RowMatrix& q);
 // The move's mirrors are about each column's mean, or with
 // `mirror_about_zero` about the joint's zero modulo half turns (where a
 // chain's mirror configurations are exact: the Panda's axes 1 and 3 align
@@ -187,6 +203,16 @@ struct SearchState {
   Eigen::VectorXd damping;
 };
 
+// The initialisation's second start alone (WideBasin::runTreeOrder): none
+// where it does not apply.
+std::optional<SensorParameters> treeOrderInitialisation(const MeasurementModel& model,
+                                                        const Observations& obs,
+                                                        const NoiseModel& noise,
+                                                        const RobustLoss& loss, int threads,
+                                                        std::vector<FrameWorkspace>* ws,
+                                                        SensorParameters theta, QState* state,
+                                                        bool coupled_steps);
+
 // The estimate the alternation refines: θ, q of every frame, and the
 // coupled steps' damping, carried from one alternation to the next.
 struct Estimate {
@@ -207,6 +233,11 @@ class WideBasin {
   // The whole initialisation: θ from the seed; state->q as for
   // wideBasinInitialisation.
   SensorParameters run(QState* state) const;
+  // The tree-order search's start alone (tree_search.hpp) and its estimate,
+  // as run() takes it where the sweeps' start misfits; none where it does
+  // not apply (no free marker group, no pot guessed, no marker or mocap
+  // part held, too few frames).
+  std::optional<SensorParameters> runTreeOrder(QState* state) const;
 
   const std::vector<PotGuess>& guesses() const { return guesses_; }
   const std::vector<std::vector<int>>& moves() const { return moves_; }
@@ -245,6 +276,11 @@ class WideBasin {
   // The estimate from the pots' maps (none: no pot guessed) and q on entry:
   // every step above after the search.
   Estimate estimateFrom(const Candidate* maps, QState state) const;
+  // estimateFrom the tree-order search's maps and `neutral`, where that
+  // search applies.
+  std::optional<Estimate> treeOrderEstimate(const QState& neutral) const;
+  // The pots' maps re-fitted to est's angles; θ returned, the angles in *state.
+  SensorParameters finish(Estimate est, QState* state) const;
 
   // ---- After convergence ----
   // Each of minimumMoves and wholeTurnMoves from est, refined by a few
@@ -278,7 +314,8 @@ class WideBasin {
   RowMatrix subsampleAngles(const RowMatrix& q) const;
   // applyMove on `state` (frames of `obs`: the subsample's or the log's);
   // after a whole-robot mirror the marker group (mocap frame and markers)
-  // is found anew in closed form, which no other move needs.
+  // is found anew in closed form, and after a wrap every map (θ-phase): the
+  // other moves carry the pots' maps along exactly.
   void moveTo(const MinimumMove& move, bool mirror_about_zero, const Observations& obs,
               SensorParameters* theta, QState* state) const;
   // The cost of every sensor over obs at est, the tendons fitted first.
