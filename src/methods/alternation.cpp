@@ -235,7 +235,7 @@ void fillAngles(const Problem& problem, const State& s, std::vector<int> sub, Ro
 // each iteration there costs a fraction of one on the whole log, which then
 // needs only the last few coupled steps); then every frame's q_t from the
 // initialised frames (fillAngles). With `tree_order` the initialisation's
-// tree-order start alone (treeOrderInitialisation). Returns whether the
+// tree-order start alone (WideBasin::runTreeOrder). Returns whether the
 // subsample converged; none (start untouched) where the tree-order start
 // does not apply.
 std::optional<bool> initialise(const MethodInput& in, bool presolve, bool tree_order,
@@ -250,9 +250,9 @@ std::optional<bool> initialise(const MethodInput& in, bool presolve, bool tree_o
   sub_state.q = QState();
   sub_state.q.q = neutralPose(problem.model.robot()).transpose().replicate(sub_obs.num_frames, 1);
   if (tree_order) {
-    std::optional<SensorParameters> theta =
-        treeOrderInitialisation(problem.model, sub_obs, s.noise, problem.loss, problem.threads, ws,
-                                s.theta, &sub_state.q, options.stac.coupled_steps);
+    const WideBasin basin(problem.model, sub_obs, s.noise, problem.loss, problem.threads, ws,
+                          s.theta, options.stac.coupled_steps);
+    std::optional<SensorParameters> theta = basin.runTreeOrder(&sub_state.q);
     if (!theta) return std::nullopt;
     sub_state.theta = std::move(*theta);
   } else {

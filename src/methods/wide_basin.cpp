@@ -514,15 +514,4 @@ SensorParameters wideBasinInitialisation(const MeasurementModel& model, const Ob
   return WideBasin(model, obs, noise, loss, threads, ws, theta, coupled_steps).run(state);
 }
 
-std::optional<SensorParameters> treeOrderInitialisation(const MeasurementModel& model,
-                                                        const Observations& obs,
-                                                        const NoiseModel& noise,
-                                                        const RobustLoss& loss, int threads,
-                                                        std::vector<FrameWorkspace>* ws,
-                                                        SensorParameters theta, QState* state,
-                                                        bool coupled_steps) {
-  return WideBasin(model, obs, noise, loss, threads, ws, theta, coupled_steps)
-      .runTreeOrder(state);
-}
-
 }  // namespace stac

@@ -203,16 +203,6 @@ struct SearchState {
   Eigen::VectorXd damping;
 };
 
-// The initialisation's second start alone (WideBasin::runTreeOrder): none
-// where it does not apply.
-std::optional<SensorParameters> treeOrderInitialisation(const MeasurementModel& model,
-                                                        const Observations& obs,
-                                                        const NoiseModel& noise,
-                                                        const RobustLoss& loss, int threads,
-                                                        std::vector<FrameWorkspace>* ws,
-                                                        SensorParameters theta, QState* state,
-                                                        bool coupled_steps);
-
 // The estimate the alternation refines: θ, q of every frame, and the
 // coupled steps' damping, carried from one alternation to the next.
 struct Estimate {
