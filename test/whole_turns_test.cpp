@@ -67,6 +67,7 @@ struct Frame {
     options.method = QPhaseMethod::kLmBatch;
     options.threads = 1;
     options.frozen = std::move(frozen);
+    options.whole_turns = true;
     std::vector<FrameWorkspace> ws(1, FrameWorkspace(model));
     QState state;
     state.q = (q_true + offset).transpose();

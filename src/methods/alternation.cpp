@@ -108,6 +108,7 @@ PassStats alternatingIteration(const Problem& problem, const CalibrationOptions&
   QPhaseOptions qo;
   qo.method = options.stac.q_phase;
   qo.threads = problem.threads;
+  qo.whole_turns = true;
   ThetaPhaseOptions to;
   to.threads = problem.threads;
   qPhase(problem.model, s->theta, s->noise, problem.loss, problem.obs, qo, ws, &s->q);

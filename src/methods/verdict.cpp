@@ -15,10 +15,15 @@
 namespace stac {
 namespace {
 
+// The reason in full, however long (a fixed buffer cut the limit check's
+// reason short).
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b, c);
-  return buf;
+  const int n = std::snprintf(nullptr, 0, fmt, a, b, c);
+  if (n <= 0) return {};
+  std::string out(static_cast<size_t>(n) + 1, '\0');
+  std::snprintf(out.data(), out.size(), fmt, a, b, c);
+  out.resize(static_cast<size_t>(n));
+  return out;
 }
 
 // Whether the fit ran under a robust loss (the EKF ignores one).

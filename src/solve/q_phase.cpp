@@ -139,7 +139,7 @@ struct FrameSolver {
     const int k = static_cast<int>(free_cols.size());
     A_free.resize(k, k);
     step_free.resize(k);
-    turn_sensors = turnSensors(m, lower, upper, o.frozen);
+    if (o.whole_turns) turn_sensors = turnSensors(m, lower, upper, o.frozen);
   }
 
   void project(Eigen::VectorXd* q) const { *q = q->cwiseMax(lower).cwiseMin(upper); }
