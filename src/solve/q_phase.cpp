@@ -351,14 +351,9 @@ double trackingPass(const MeasurementModel& model, const SensorParameters& theta
     for (int t = begin; t < end; ++t) {
       if (t == begin) state->q.row(t) = start.transpose();
       else state->q.row(t) = state->q.row(t - 1);
-      const FrameReadings fr = frameReadings(obs, t);
-      FrameWorkspace* ws = &(*workspaces)[tid];
-      FrameSolver& solver = solvers[tid];
-      const double before =
-          solver.lm(fr, state->q.row(t), &state->lambda[t], options.max_steps, ws);
-      state->cost[t] = solver.turn(fr, state->q.row(t), before, ws);
-      if (state->cost[t] < before)
-        state->cost[t] = solver.lm(fr, state->q.row(t), &state->lambda[t], options.max_steps, ws);
+      state->cost[t] = solvers[tid].lm(frameReadings(obs, t), state->q.row(t),
+                                       &state->lambda[t], options.max_steps,
+                                       &(*workspaces)[tid]);
     }
   });
   return state->cost.sum();
