@@ -370,7 +370,7 @@ constexpr double kTreeRestartMisfit = 2.0;
 
 // The initialisation's tree-order start (tree_search.hpp), as a new run's
 // start from in's seed, and the alternation on from there; its end is kept
-// as goOnIfBetter says. An unseen planar double pendulum (continuous
+// as goOnIfBetter says, if it converged. An unseen planar double pendulum (continuous
 // joints) on partial swings converged in a mirror image of its motion, its
 // markers at 2.7x their seed σ and one at 3.9x: the sweeps' start assumes
 // swings about a range's middle, and the jumps from the converged state
@@ -387,7 +387,15 @@ std::optional<LoopOutcome> restartInTreeOrder(
   if (!initialise(in, true, true, &alt, ws)) return std::nullopt;
   State before = *s;
   *s = std::move(alt.state);
-  return goOnIfBetter(in, loop, std::move(before), s, ws, report);
+  std::optional<LoopOutcome> again = goOnIfBetter(in, loop, before, s, ws, report);
+  // Only a converged end: one the iteration limit stopped would turn a
+  // converged result into an unconverged one (an unseen Solo 12 with gross
+  // readings: kept at the limit, "not converged").
+  if (again && !again->converged) {
+    *s = std::move(before);
+    return std::nullopt;
+  }
+  return again;
 }
 
 // The initialisation's searches can leave a minimum whose pots' maps are a
