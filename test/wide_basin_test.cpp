@@ -452,8 +452,8 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
       return m.flip == move.flip && m.half_turn == move.half_turn;
     });
   };
-  EXPECT_EQ(count({{1}, {0, 2}, {}, false, {}}), 1);
-  EXPECT_EQ(count({{1, 2}, {0, 3}, {}, false, {}}), 1);
+  EXPECT_EQ(count({{1}, {0, 2}, {}}), 1);
+  EXPECT_EQ(count({{1, 2}, {0, 3}, {}}), 1);
   std::vector<PotGuess> held = wb.guesses();
   held[2].bias_held = true;
   for (const MinimumMove& m : minimumMoves(held, wb.moves()))
@@ -493,7 +493,7 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAWristFlip) {
   const WideBasin wb = s.basin(s.p.seed);
   Estimate est = atTheTruth(s.p);
   EXPECT_FALSE(wb.jumpToBetterMinimum(&est));
-  const MinimumMove wrist_flip{{3}, {2}, {}, false, {}};
+  const MinimumMove wrist_flip{{3}, {2}, {}};
   applyMove(s.p.robot, wb.guesses(), wrist_flip, &est.theta, &est.state.q);
   ASSERT_NE(est.theta.joint_sensor[3].gain, s.p.truth.joint_sensor[3].gain);
   const auto jump = wb.jumpToBetterMinimum(&est);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
@@ -213,7 +214,7 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
     if (guesses[i].bias_held || !revolute || !std::isfinite(span)) continue;
     if (span > 2 * M_PI ||
         std::find(mostly_at_limit.begin(), mostly_at_limit.end(), j) != mostly_at_limit.end())
-      moves.push_back({{}, {}, {i}, false, {}});
+      moves.push_back({{}, {}, {i}});
   }
   return moves;
 }
@@ -226,7 +227,10 @@ std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<Po
     const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type != JointType::kPrismatic;
     const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
     if (!revolute || !(span > 2 * M_PI) || q.rows() == 0) continue;
-    if (q.col(j).maxCoeff() - q.col(j).minCoeff() > 2 * M_PI) moves.push_back({{}, {}, {}, false, {i}});
+    if (q.col(j).maxCoeff() - q.col(j).minCoeff() <= 2 * M_PI) continue;
+    MinimumMove move;
+    move.wrap = {i};
+    moves.push_back(std::move(move));
   }
   return moves;
 }
@@ -235,9 +239,8 @@ namespace {
 // Each angle of column g.column moved by whole turns into the turn about
 // the column's circular mean.
 void wrapAngles(const PotGuess& g, RowMatrix* q) {
-  double s = 0, c = 0;
-  for (int t = 0; t < q->rows(); ++t) s += std::sin((*q)(t, g.column)), c += std::cos((*q)(t, g.column));
-  const double centre = std::atan2(s, c);
+  const auto angles = q->col(g.column).array();
+  const double centre = std::atan2(angles.sin().sum(), angles.cos().sum());
   for (int t = 0; t < q->rows(); ++t) {
     double& a = (*q)(t, g.column);
     a -= 2 * M_PI * std::round((a - centre) / (2 * M_PI));
@@ -252,11 +255,11 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   std::vector<std::vector<int>> pairs;  // {above, below}
   for (const std::vector<int>& m : sign_moves) {
     if (touchesFixed(guesses, m)) continue;
-    moves.push_back({m, {}, {}, false, {}});
-    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m, {}, false, {}});
+    moves.push_back({m, {}, {}});
+    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m, {}});
     if (m.size() == 2 && turnable(m[0])) {  // m[0] is above m[1]
-      moves.push_back({{m[1]}, {m[0]}, {}, false, {}});
-      if (turnable(m[1])) moves.push_back({{}, m, {}, false, {}});
+      moves.push_back({{m[1]}, {m[0]}, {}});
+      if (turnable(m[1])) moves.push_back({{}, m, {}});
     }
     if (m.size() == 2) pairs.push_back(m);
   }
@@ -265,7 +268,7 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   for (const std::vector<int>& up : pairs)
     for (const std::vector<int>& down : pairs)
       if (up[1] == down[0] && turnable(up[0]) && turnable(down[1]))
-        moves.push_back({{up[1]}, {up[0], down[1]}, {}, false, {}});
+        moves.push_back({{up[1]}, {up[0], down[1]}, {}});
   // The shoulder flip of four: two neighbours mirrored (an elbow's
   // parallel axes), the ones above and below them half a turn (a Kinova
   // Jaco's q1 + π, −q2, −q3, q4 + π about its limits' zeros: a random truth
@@ -274,7 +277,7 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
     for (const std::vector<int>& mid : pairs)
       for (const std::vector<int>& down : pairs)
         if (up[1] == mid[0] && mid[1] == down[0] && turnable(up[0]) && turnable(down[1]))
-          moves.push_back({{mid[0], mid[1]}, {up[0], down[1]}, {}, false, {}});
+          moves.push_back({{mid[0], mid[1]}, {up[0], down[1]}, {}});
   // Every joint mirrored at once, the mocap frame's closed form turning
   // with them: where every joint's axis is perpendicular to one direction,
   // a half turn of the whole robot about it reverses every axis (Finger
@@ -283,7 +286,7 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   // 1.7 σ, silent, in 2 of 10 partial-swing truths).
   std::vector<int> all;
   for (int i = 0; i < static_cast<int>(guesses.size()); ++i) all.push_back(i);
-  if (all.size() >= 2 && !touchesFixed(guesses, all)) moves.push_back({all, {}, {}, true, {}});
+  if (all.size() >= 2 && !touchesFixed(guesses, all)) moves.push_back({all, {}, {}, true});
   return moves;
 }
 

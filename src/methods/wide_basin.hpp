@@ -137,7 +137,7 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 struct MinimumMove {
   std::vector<int> flip, half_turn, whole_turn;
   bool flip_about_zero = false;  // its mirrors always about the joints' zeros (applyMove)
-  std::vector<int> wrap;
+  std::vector<int> wrap = {};  // (a default: the other moves' braces leave it out)
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
