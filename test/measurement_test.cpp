@@ -187,8 +187,10 @@ TEST(Measurement, RobustCostIsHalfTheSumOfRho) {
 
 
 // Each group's share of the dof q_t takes against tr(J_g H⁻¹ J_gᵀ) from the
-// dense Jacobian, plain and robustified, with a marker missing too.
-void checkGroupLeverage(const RobustLoss& loss, bool drop_marker) {
+// dense Jacobian, plain and robustified, with a marker missing too; with
+// `body`, markers 0 and 1 as virtual points of one tracked body
+// (marker_bodies.hpp), whose leverage counts rowsPerDim times.
+void checkGroupLeverage(const RobustLoss& loss, bool drop_marker, bool body = false) {
   Scene s;
   if (drop_marker) s.obs.marker.row(0).head(3).setConstant(std::nan(""));
   const MeasurementModel model(s.robot, s.sensors);
@@ -200,12 +202,24 @@ void checkGroupLeverage(const RobustLoss& loss, bool drop_marker) {
                 q, eo, &ws);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3 * ws.count, n);
   std::vector<int> group;
+  std::vector<bool> in_body;
+  MarkerBodies bodies;
+  if (body) {
+    bodies.body_of_marker.assign(s.sensors.markers.size(), -1);
+    bodies.body_of_marker[0] = bodies.body_of_marker[1] = 0;
+    bodies.rank = {6};
+    bodies.size = {2};
+  }
+  int present = 0;
   for (int i = 0; i < ws.count; ++i) {
     const ReadingJacobian& rj = ws.readings[i];
+    const bool member = body && rj.group == SensorGroup::kMarker && rj.sensor < 2;
+    present += member;
     for (int r = 0; r < rj.rows; ++r) {
       for (size_t a = 0; a < rj.q_cols->size(); ++a)
         J(static_cast<int>(group.size()), (*rj.q_cols)[a]) += rj.Jq(r, a);
       group.push_back(static_cast<int>(rj.group));
+      in_body.push_back(member);
     }
   }
   J.conservativeResize(static_cast<int>(group.size()), n);
@@ -213,13 +227,15 @@ void checkGroupLeverage(const RobustLoss& loss, bool drop_marker) {
   const double eps = 1e-12 * std::max(1.0, H.diagonal().maxCoeff());
   const Eigen::MatrixXd Hinv = (H + eps * Eigen::MatrixXd::Identity(n, n)).inverse();
   double want[kNumSensorGroups] = {0, 0, 0};
-  for (int r = 0; r < J.rows(); ++r) want[group[r]] += J.row(r) * Hinv * J.row(r).transpose();
+  const double per_dim = body ? bodies.rowsPerDim(0, present) : 1.0;
+  for (int r = 0; r < J.rows(); ++r)
+    want[group[r]] += (in_body[r] ? per_dim : 1.0) * J.row(r) * Hinv * J.row(r).transpose();
 
   Eigen::MatrixXd Hws(n, n), Linv(n, n);
   Eigen::VectorXd g(n);
   accumulateNormalEquations(ws, &Hws, &g);
   double got[kNumSensorGroups] = {0, 0, 0};
-  addGroupLeverage(ws, &Hws, &Linv, got);
+  addGroupLeverage(ws, bodies, &Hws, &Linv, got);
   for (int k = 0; k < kNumSensorGroups; ++k) {
     EXPECT_GT(want[k], 0.05) << "group " << k;  // every group takes a real share
     EXPECT_NEAR(got[k], want[k], 1e-7) << "group " << k;
@@ -230,6 +246,9 @@ TEST(Measurement, GroupLeverageMatchesTheDenseHatMatrix) {
   checkGroupLeverage(RobustLoss(), false);
   checkGroupLeverage(RobustLoss(), true);
   checkGroupLeverage(RobustLoss(LossKind::kHuber, 0.5), false);
+  // Two points of one body: 6 rows, 5 dims (a lone point left: 3 and 3).
+  checkGroupLeverage(RobustLoss(), false, true);
+  checkGroupLeverage(RobustLoss(), true, true);
 }
 
 // The sandwich's meat: Σ_t g̃_t g̃_tᵀ over frames, each g̃_t being the reduced

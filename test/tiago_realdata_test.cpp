@@ -229,17 +229,17 @@ TEST_F(TiagoFolds, FourPointsAndJointOriginsEveryFoldConvergesWithin30Iterations
   expectEveryFoldConverges(4, " --joint-origins " + origins);
 }
 
-// The four points as four markers without the joints' origins: the model
-// cannot explain the hand's orientation with the URDF's geometry, and the
-// joint readings fit about 4x their seed σ. Said so with or without a
-// robust loss: under Huber the residuals' medians (which do not count the
-// degrees of freedom each posture's angles spend) stayed under their bounds
-// in 4 of 5 folds, exit 0 at 4.1 mm held-out, while the adapted σ, which
-// does, was 3.8x its seed.
-TEST_F(TiagoFolds, FourPointsWithoutOriginsAreSuspectWithOrWithoutARobustLoss) {
-  const std::string reason = "the joint readings fit";
-  expectEveryFoldConverges(4, "", reason);
-  expectEveryFoldConverges(4, " --loss huber", reason);
+// The four points as four markers without the joints' origins. They are
+// virtual points of one tracked body (solve/marker_bodies.hpp): 12 rows a
+// posture carry one pose error, which the 8 joints' angles can take whole.
+// Counted as 12 independent rows (3 of them taken) the marker σ shrank to
+// 0.37 mm, the joint readings' grew to 4.2x their seed, and every fold was
+// suspect, with or without a robust loss (held-out error 4.1 mm). Counted as
+// one pose: marker σ 0.64-0.72 mm, joint σ 2.3-2.9x its seed (the URDF's
+// geometry does not explain the hand's orientation), 3.1 mm held out.
+TEST_F(TiagoFolds, FourPointsOfOneBodyWithoutOriginsPassWithOrWithoutARobustLoss) {
+  expectEveryFoldConverges(4, "");
+  expectEveryFoldConverges(4, " --loss huber");
 }
 
 }  // namespace

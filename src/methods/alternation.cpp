@@ -88,7 +88,7 @@ PassStats coupledIteration(const Problem& problem, bool adapt, double* lambda, S
   const FrameVisitor visit = [&](int block, const FrameWorkspace& w, const Eigen::MatrixXd& Hqq) {
     H[block] = Hqq;
     Linv[block].resize(Hqq.rows(), Hqq.cols());
-    addGroupLeverage(w, &H[block], &Linv[block], lev[block].data());
+    addGroupLeverage(w, problem.bodies, &H[block], &Linv[block], lev[block].data());
   };
   CoupledStepOptions step;
   step.refit_rejected = true;

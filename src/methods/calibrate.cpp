@@ -83,8 +83,9 @@ CalibrationResult calibrate(const RobotModel& robot, const SensorSet& sensors,
   const bool screened = loss.enabled() && options.screen_spikes;
   SpikeScreen screen;
   if (screened) screen = screenSpikes(obs, seed_noise);
-  const Problem problem{model, screened ? screen.kept : obs, seed_noise, loss,
-                        resolveThreads(options.threads)};
+  const Observations& used = screened ? screen.kept : obs;
+  const Problem problem{model, used, seed_noise, loss, resolveThreads(options.threads),
+                        findMarkerBodies(sensors, used)};
   const MethodInput in{problem, seed, options, start, q0};
   CalibrationResult r = [&] {
     switch (options.method) {

@@ -94,7 +94,7 @@ std::optional<CauchyFit> cauchyFit(const MethodInput& in) {
   const Problem& problem = in.problem;
   const RobustLoss cauchy(LossKind::kCauchy, problem.loss.scale());
   const Problem redescending{problem.model, problem.obs, problem.seed_noise, cauchy,
-                             problem.threads};
+                             problem.threads, problem.bodies};
   const CalibrationOptions options = checkOptions(in, LossKind::kCauchy);
   const MethodInput check{redescending, in.seed, options, in.start, in.q0};
   Outcome outcome = runStac(check);

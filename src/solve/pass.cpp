@@ -72,7 +72,7 @@ PassStats costPass(const Problem& problem, const SensorParameters& theta, const 
       const int rows = addReadings(w, noise, problem.seed_noise, &st);
       if (!leverage || rows == 0) continue;
       accumulateNormalEquations(w, &H, &g);
-      addGroupLeverage(w, &H, &Linv, st.leverage);
+      addGroupLeverage(w, problem.bodies, &H, &Linv, st.leverage);
     }
   });
   PassStats total;

@@ -8,6 +8,7 @@
 
 #include "stac/log.hpp"
 #include "stac/measurement.hpp"
+#include "solve/marker_bodies.hpp"
 #include "solve/q_phase.hpp"
 #include "solve/noise_adaptation.hpp"
 
@@ -19,9 +20,14 @@ struct Problem {
   const NoiseModel& seed_noise;
   const RobustLoss& loss;
   int threads = 1;  // resolved: at least 1
+  // The markers that are virtual points of one tracked body, found in the
+  // whole log (a subsample's bodies are the same).
+  MarkerBodies bodies = {};
 
   // The same problem on other readings (a subsample of obs, say).
-  Problem on(const Observations& other) const { return {model, other, seed_noise, loss, threads}; }
+  Problem on(const Observations& other) const {
+    return {model, other, seed_noise, loss, threads, bodies};
+  }
 };
 
 // Everything a method moves: θ, σ (as group scales on the seed σ's) and the

@@ -28,12 +28,42 @@ void accumulateNormalEquations(const FrameWorkspace& ws, Eigen::MatrixXd* H,
   H->triangularView<Eigen::StrictlyUpper>() = H->transpose();
 }
 
+namespace {
+
+// What the virtual points of tracked bodies add to the markers' leverage
+// (addGroupLeverage): each body's leverage, tr(J H⁻¹ Jᵀ) over its points'
+// rows, (rowsPerDim - 1) times.
+template <typename Hinv>
+double bodyLeverageExcess(const FrameWorkspace& w, const MarkerBodies& bodies, const Hinv& hinv) {
+  if (bodies.empty()) return 0.0;
+  std::vector<double> lev(bodies.rank.size(), 0.0);
+  std::vector<int> present(bodies.rank.size(), 0);
+  for (int i = 0; i < w.count; ++i) {
+    const ReadingJacobian& rj = w.readings[i];
+    if (rj.group != SensorGroup::kMarker) continue;
+    const int b = bodies.body_of_marker[rj.sensor];
+    if (b < 0) continue;
+    const std::vector<int>& cols = *rj.q_cols;
+    for (int r = 0; r < rj.rows; ++r)
+      for (size_t a = 0; a < cols.size(); ++a)
+        for (size_t c = 0; c < cols.size(); ++c)
+          lev[b] += rj.Jq(r, a) * hinv(cols[a], cols[c]) * rj.Jq(r, c);
+    ++present[b];
+  }
+  double excess = 0;
+  for (size_t b = 0; b < lev.size(); ++b)
+    excess += (bodies.rowsPerDim(static_cast<int>(b), present[b]) - 1) * lev[b];
+  return excess;
+}
+
+}  // namespace
+
 // Cholesky and L⁻¹ in plain loops: they beat Eigen's blocked kernels at
 // these sizes. The markers' share is what the pots' and tendons' (one row,
 // few columns each: entries of H⁻¹ = L⁻ᵀ L⁻¹) leave of tr(H⁻¹ H), so no
 // marker's 3 x k block is touched.
-void addGroupLeverage(const FrameWorkspace& w, Eigen::MatrixXd* H, Eigen::MatrixXd* Linv,
-                      double leverage[kNumSensorGroups]) {
+void addGroupLeverage(const FrameWorkspace& w, const MarkerBodies& bodies, Eigen::MatrixXd* H,
+                      Eigen::MatrixXd* Linv, double leverage[kNumSensorGroups]) {
   const int n = static_cast<int>(H->rows());
   const double eps = 1e-12 * std::max(1.0, H->diagonal().maxCoeff());
   H->diagonal().array() += eps;
@@ -79,7 +109,8 @@ void addGroupLeverage(const FrameWorkspace& w, Eigen::MatrixXd* H, Eigen::Matrix
     others += lev;
   }
   // tr(H⁻¹ (H - εI)) = n - ε tr(H⁻¹): a joint no reading sees adds 0.
-  leverage[static_cast<int>(SensorGroup::kMarker)] += n - eps * trace - others;
+  leverage[static_cast<int>(SensorGroup::kMarker)] +=
+      n - eps * trace - others + bodyLeverageExcess(w, bodies, hinv);
 }
 
 void widenedLimits(const RobotModel& robot, Eigen::VectorXd* lower, Eigen::VectorXd* upper) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "stac/log.hpp"
+#include "solve/marker_bodies.hpp"
 #include "stac/measurement.hpp"
 
 namespace stac {
@@ -75,8 +76,10 @@ void accumulateNormalEquations(const FrameWorkspace& ws, Eigen::MatrixXd* H,
 // Adds each sensor group's share of the dof the frame's q_t takes,
 // tr(J_g H⁻¹ J_gᵀ) (the leverage of its readings), to leverage[]. H is that
 // evaluation's accumulateNormalEquations H (overwritten); Linv is a dof x dof
-// scratch. The shares sum to the number of joints some reading sees.
-void addGroupLeverage(const FrameWorkspace& ws, Eigen::MatrixXd* H, Eigen::MatrixXd* Linv,
-                      double leverage[kNumSensorGroups]);
+// scratch. The shares sum to the number of joints some reading sees, but
+// that the virtual points of one tracked body (marker_bodies.hpp) count
+// their leverage rowsPerDim times: the rows it leaves them carry no error.
+void addGroupLeverage(const FrameWorkspace& ws, const MarkerBodies& bodies, Eigen::MatrixXd* H,
+                      Eigen::MatrixXd* Linv, double leverage[kNumSensorGroups]);
 
 }  // namespace stac
