@@ -45,6 +45,24 @@ TEST(JointLimits, JointsOftenAtALimitAreCountedFromThreeFramesAndAShare) {
   EXPECT_EQ(jointsOftenAtLimit(c.robot, q, 0.02), (std::vector<int>{1, 3}));
 }
 
+// Beyond the URDF's own limits (where true angles never go) is wider than
+// at the q-phase's widened bound: every angle past the limit counts.
+TEST(JointLimits, BeyondTheURDFLimitsCountsEveryAnglePastThem) {
+  const Chain c(4.0);
+  Eigen::VectorXd lower, upper;
+  widenedLimits(c.robot, &lower, &upper);
+  RowMatrix q = RowMatrix::Zero(10, 4);
+  q(0, 2) = 4.0;           // at the URDF limit: not beyond
+  q(1, 2) = 4.0 + 1e-3;    // just past it
+  q(2, 2) = upper[2];      // at the widened bound
+  q(3, 1) = lower[1] - 1;  // past the widened bound too
+  const auto beyond = beyondLimits(c.robot, q);
+  EXPECT_EQ(beyond.count(), 3);
+  EXPECT_FALSE(beyond(0, 2));
+  EXPECT_TRUE(beyond(1, 2) && beyond(2, 2) && beyond(3, 1));
+  EXPECT_EQ(atWidenedLimit(c.robot, q).count(), 2);  // only the last two
+}
+
 TEST(JointLimits, AWholeTurnWhereTheLimitsSpanMoreThanOneOrTheMotionLeavesThem) {
   const Chain c(4.0);
   const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);

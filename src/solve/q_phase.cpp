@@ -135,6 +135,17 @@ Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> atWidenedLimit(const RobotMo
   return at;
 }
 
+Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> beyondLimits(const RobotModel& robot,
+                                                                 const RowMatrix& q) {
+  const Eigen::VectorXd& lower = robot.lowerLimits();
+  const Eigen::VectorXd& upper = robot.upperLimits();
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> out(q.rows(), q.cols());
+  for (int t = 0; t < q.rows(); ++t)
+    for (int j = 0; j < q.cols(); ++j)
+      out(t, j) = q(t, j) < lower[j] - 1e-6 || q(t, j) > upper[j] + 1e-6;
+  return out;
+}
+
 namespace {
 
 struct FrameSolver {

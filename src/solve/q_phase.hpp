@@ -38,6 +38,12 @@ void widenedLimits(const RobotModel& robot, Eigen::VectorXd* lower, Eigen::Vecto
 // asking for more. Rows of q x dof.
 Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> atWidenedLimit(const RobotModel& robot,
                                                                    const RowMatrix& q);
+// Whether each joint of each row of q lies beyond the URDF's own limits
+// (by more than a micro-radian or micrometre), where true angles never go:
+// the q-phase's box allows it, so that noise does not hold a joint moved to
+// its limit. Rows of q x dof.
+Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> beyondLimits(const RobotModel& robot,
+                                                                 const RowMatrix& q);
 
 struct QState {
   RowMatrix q;               // frames x dof
