@@ -115,16 +115,8 @@ TEST(GainDivergence, ARunConvergedWithAGainDivergedIsRestartedMirrored) {
       RobotModel::fromFile(std::string(STAC_SOURCE_DIR) + "/test/fixtures/go1_kinematics.urdf"),
       600);
   const SensorSet& sensors = go1.truth.sensors;
-  std::mt19937_64 rng(2024);  // the basin test's draw of truths
-  const SensorParameters truth = test::randomTruth(go1.model, sensors, go1.truth.theta, rng);
-  const MeasurementModel model(go1.model, sensors);
-  const Simulation sim =
-      test::simulateVariant(go1, model, truth, test::Variant::kOutliers, go1.frames, 1000);
-  CalibrationOptions o;
-  o.threads = 2;
-  o.loss = LossKind::kCauchy;
-  const CalibrationResult r = calibrate(go1.model, sensors, test::paperSeed(sensors, truth),
-                                        bindLog(sim.data.log, sensors, "truth", 1.0), o);
+  const auto [truth, r] =
+      test::replayBasinTruth(go1, test::Variant::kOutliers, 0, LossKind::kCauchy);
   const int j = sensorIndex(sensors, "RL_calf_joint");
   ASSERT_GE(j, 0);
   EXPECT_NEAR(r.theta.joint_sensor[j].gain, truth.joint_sensor[j].gain,

@@ -17,7 +17,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <random>
 #include <string>
 
 #include "stac/calibrate.hpp"
@@ -32,17 +31,7 @@ void expectPandaPartialTruthReached(int index) {
     GTEST_SKIP() << "no panda.urdf in STAC_ROBOTS_DIR";
   const test::Robot panda = test::externalRobot(RobotModel::fromFile(urdf), 600);
   const SensorSet& sensors = panda.truth.sensors;
-  std::mt19937_64 rng(2024);  // the basin test's draw of truths
-  SensorParameters truth;
-  for (int k = 0; k <= index; ++k)
-    truth = test::randomTruth(panda.model, sensors, panda.truth.theta, rng);
-  const MeasurementModel model(panda.model, sensors);
-  const Simulation sim = test::simulateVariant(panda, model, truth, test::Variant::kPartialSwings,
-                                               600, 1000 + index);
-  CalibrationOptions o;
-  o.threads = 2;
-  const CalibrationResult r = calibrate(panda.model, sensors, test::paperSeed(sensors, truth),
-                                        bindLog(sim.data.log, sensors, "truth", 1.0), o);
+  const auto [truth, r] = test::replayBasinTruth(panda, test::Variant::kPartialSwings, index);
   std::string why;
   EXPECT_TRUE(test::closeToTruth(panda.model, sensors, truth, r, &why)) << why;
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];

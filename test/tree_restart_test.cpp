@@ -22,17 +22,7 @@ TEST(TreeRestart, AMirroredDoublePendulumIsRestartedInTreeOrder) {
                            "/test/fixtures/double_pendulum_continuous_kinematics.urdf"),
       600);
   const SensorSet& sensors = pendulum.truth.sensors;
-  std::mt19937_64 rng(2024);  // the basin test's draw of truths: the fifth
-  SensorParameters truth;
-  for (int k = 0; k <= 4; ++k)
-    truth = test::randomTruth(pendulum.model, sensors, pendulum.truth.theta, rng);
-  const MeasurementModel model(pendulum.model, sensors);
-  const Simulation sim = test::simulateVariant(pendulum, model, truth,
-                                               test::Variant::kPartialSwings, 600, 1004);
-  CalibrationOptions o;
-  o.threads = 2;
-  const CalibrationResult r = calibrate(pendulum.model, sensors, test::paperSeed(sensors, truth),
-                                        bindLog(sim.data.log, sensors, "truth", 1.0), o);
+  const auto [truth, r] = test::replayBasinTruth(pendulum, test::Variant::kPartialSwings, 4);
   std::string why;
   EXPECT_TRUE(test::closeToTruth(pendulum.model, sensors, truth, r, &why)) << why;
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
