@@ -62,9 +62,11 @@ case "${1:-}" in
     # Memory errors and undefined behaviour fail CI too: unit tests under
     # AddressSanitizer + UBSan, except those in test/asan_exclude.txt (the
     # packaging tests, whose consumers link without the sanitizer runtime, and
-    # the external-robot, humanoid38 and free-seed calibrations, 15-40x slower
-    # under ASan (13-16 min each) and covering no code that the hand24 and arm
-    # calibrations do not; they all run in the Release pass above), and the
+    # the external-robot, humanoid38, free-seed, panda-mirror and TIAGo
+    # four-point-fold calibrations, 15-40x slower under ASan (13-16 min each
+    # for the first three) and covering no code that the hand24, arm, chain
+    # and one-point TIAGo calibrations do not; they all run in the Release
+    # pass above), and the
     # gradient checks of the monolithic costs: ASan reports an overflow inside
     # Eigen's aligned free when the test destroys the results that libceres's
     # GradientChecker filled (an allocation/free mismatch at the Ceres-Eigen
