@@ -6,10 +6,10 @@
 // frames; it was reported as an ambiguity, a miss. Basin truths 6 and 8:
 //  - 6: joint 3 down to -3.25 rad against its -2.90 in 3.5% of the frames.
 //    The jump back relieves the limit, which only whole turns were allowed
-//    to count for (wide_basin.cpp jumpToBetterMinimum), and the moved
-//    state is settled by two alternations before the run's coupled steps
-//    go on (a first coupled step from it threw the wrist a whole turn
-//    beyond its limits and the jump was refused).
+//    to count for (wide_basin.cpp jumpToBetterMinimum), and θ is re-fitted
+//    to the moved angles before the run's coupled steps go on (a first
+//    coupled step from the moved state threw the wrist a whole turn beyond
+//    its limits and the jump was refused).
 //  - 8: joint 1 beyond its limit in 108 of 600 frames, few of them at the
 //    q-phase's widened bound (the escape counted only those); the move back
 //    mirrored about the motion's mean refined to 0.7% worse, the exact one

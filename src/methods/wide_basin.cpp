@@ -380,22 +380,15 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   }
   if (!chosen) chosen = within;
   if (!chosen) return chosen;
-  // On every frame, settled as on the subsample by two alternations, whose
-  // q-phase keeps each q_t within the limits' box, before the run's coupled
-  // steps, which do not, go on from it: from the moved angles, the markers
-  // between the moved joints not yet re-fitted, a first coupled step took
-  // panda/partial basin truth 6 to a cost of 8e7 and its wrist a whole turn
-  // beyond the limits in every frame, and the jump was refused.
+  // On every frame, θ re-fitted in closed form to the moved angles before
+  // the run's coupled steps go on from it: with the markers between the
+  // moved joints where they were, a first coupled step took panda/partial
+  // basin truth 6 to a cost of 8e7 and its wrist a whole turn beyond the
+  // limits in every frame, and the jump was refused.
   moveTo(*chosen, false, obs_, &est->theta, &est->state);
-  QPhaseOptions qo;
-  qo.method = QPhaseMethod::kLmIter;
-  qo.threads = threads_;
   ThetaPhaseOptions to;
   to.threads = threads_;
-  for (int it = 0; it < 2; ++it) {
-    qPhase(model_, est->theta, noise_, loss_, obs_, qo, ws_, &est->state);
-    thetaPhase(model_, noise_, loss_, obs_, est->state, to, ws_, &est->theta);
-  }
+  thetaPhase(model_, noise_, loss_, obs_, est->state, to, ws_, &est->theta);
   return chosen;
 }
 
