@@ -313,23 +313,12 @@ Start startRun(const MethodInput& in, bool presolve, Workspaces* ws) {
   return start;
 }
 
-bool misfitAlike(const Problem& problem, const GroupScales& scales) {
-  const SensorSet& sensors = problem.model.sensors();
-  const bool present[kNumSensorGroups] = {!sensors.markers.empty(), !sensors.joint_sensors.empty(),
-                                          !sensors.tendon_sensors.empty()};
-  int groups = 0;
-  double lo = 0, hi = 0;
-  for (int g = 0; g < kNumSensorGroups; ++g) {
-    if (!present[g]) continue;
-    const double k = scales.kappa[g];
-    lo = groups == 0 ? k : std::min(lo, k);
-    hi = groups == 0 ? k : std::max(hi, k);
-    ++groups;
-  }
-  return groups >= 2 && lo > kEscapeMisfit && hi <= kAlikeMisfit * lo;
-}
-
 namespace {
+
+// A converged run is checked for a wrong minimum where some sensor's
+// median error is above this many times what its seed σ gives (a right one
+// fits at about 1; the wrist flips of the basin test's misses at 1.6-4).
+constexpr double kEscapeMisfit = 1.4;
 
 // Whether some joint lies beyond the URDF's limits in more than
 // kEscapeShareAtLimit of the frames (and in at least 3).
@@ -428,15 +417,14 @@ std::optional<LoopOutcome> restartInTreeOrder(
 // (WideBasin::jumpToBetterMinimum) are tried, and the alternation goes on
 // from a clearly better one (goOnIfBetter), at most kEscapes times. Only
 // from a converged run (an unconverged one is reported so), and within its
-// iteration limit. Sensors misfit against their seed σ's, or against the
-// adapted ones where the misfit is alike (misfitAlike).
+// iteration limit.
 LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s, Workspaces* ws,
                                const std::function<void(int, const PassStats&)>& report) {
   const Problem& problem = in.problem;
   const auto open = [&] { return loop.converged && loop.iterations < in.options.max_iterations; };
   const auto misfits = [&](double factor) {
-    const NoiseModel& noise = misfitAlike(problem, s->scales) ? s->noise : problem.seed_noise;
-    return someSensorMisfits(problem.model, s->theta, noise, problem.obs, s->q.q, factor, factor);
+    return someSensorMisfits(problem.model, s->theta, problem.seed_noise, problem.obs, s->q.q,
+                             factor, factor);
   };
   bool misfit = false;  // at the last check, at kEscapeMisfit
   for (int round = 0; round < kEscapes && open(); ++round) {

@@ -48,24 +48,6 @@ struct Start {
 };
 Start startRun(const MethodInput& in, bool presolve, Workspaces* ws);
 
-// A converged run is checked for a wrong minimum where some sensor's
-// median error is above this many times what its seed σ gives (a right one
-// fits at about 1; the wrist flips of the basin test's misses at 1.6-4).
-constexpr double kEscapeMisfit = 1.4;
-
-// A misfit shared alike says the σ's given are too small (a log noisier
-// than its seed says), not that the minimum is wrong: two or more sensor
-// groups, each σ adapted to beyond kEscapeMisfit times its seed, all within
-// kAlikeMisfit of each other. A wrong minimum leaves some group at its
-// noise (the pots, which the q_t follow, fit while the markers of a wrong
-// map's joint do not: an unseen double pendulum in a mirror image had its
-// markers at 2.7x, its pots at 1x). The search for a better minimum then
-// judges each sensor against its adapted σ. (humanoid38, 3000 frames with
-// noise 2.5x its seed σ: every group at 2.5x and every sensor misfit
-// against its seed σ; the jumps took 44 of the run's 58 s to find nothing.)
-constexpr double kAlikeMisfit = 1.5;
-bool misfitAlike(const Problem& problem, const GroupScales& scales);
-
 // One STAC run from in's seed: the start, the alternation, the jumps out of
 // a wrong minimum, and under Huber's loss the gross readings set aside
 // (*set_aside: whether any were). runStac() is this and, after a set-aside,
