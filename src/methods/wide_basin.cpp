@@ -3,6 +3,8 @@
 // closed-form mocap frame and markers, then a marker-led alternation.
 #include "methods/wide_basin.hpp"
 
+#include "methods/verdict.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -337,58 +339,64 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
   sub.q = subsampleAngles(est->state.q);
   const double base = refinedCost(est->theta, sub, PotSteps::kInverseCharts);
   const RobotModel& robot = model_.robot();
+  const auto at_limit = atWidenedLimit(robot, sub.q);
   const auto beyond = beyondLimits(robot, sub.q);
+  const double often = std::max(3.0, kEscapeShareAtLimit * static_cast<double>(sub.q.rows()));
   double best = kBetterMinimum * base, within_cost = (1 + kSameFit) * base;
   std::optional<MinimumMove> chosen, within;
-  std::vector<MinimumMove> moves = minimumMoves(guesses_, moves_);
-  // A wrist or shoulder flip is exact about the mirrored joints' zeros (or
-  // kπ, flipAboutTurns), its sign move about the motion's mean is not, and
-  // refined from there may not reach the exact one: both are tried
-  // (panda/partial basin truth 8: the shoulder's mirror, joint 1 beyond its
-  // limit in 108 of 600 frames; the move back about the mean refined to
-  // 0.7% worse and the run ended reported ambiguous).
-  for (size_t i = 0, n = moves.size(); i < n; ++i)
-    if (!moves[i].flip.empty() && !moves[i].half_turn.empty() && !moves[i].flip_about_zero) {
-      MinimumMove exact = moves[i];
-      exact.flip_about_zero = true;
-      moves.push_back(std::move(exact));
-    }
-  for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
-  for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
-  for (const MinimumMove& move : moves) {
+  const auto consider = [&](const MinimumMove& move) {
     SensorParameters theta = est->theta;
     QState moved = sub;
     moveTo(move, false, sub_, &theta, &moved);
-    // A move that leaves fewer frames beyond the URDF limits of the joints
-    // it turns (true angles never leave them): a whole turn, or a mirror
-    // image whose motion the limits hold (panda/partial basin truth 6: the
-    // shoulder's mirror, joint 3 down to -3.25 against its -2.90, fitted as
-    // well as the truth, which the limits hold, and was reported ambiguous).
+    // A move that relieves the limits of the joints it turns (true angles
+    // never leave them): a whole turn that leaves fewer frames at the
+    // widened bound, or a mirror image whose motion the URDF limits hold
+    // where a joint it turns left them in more than kEscapeShareAtLimit of
+    // the frames (panda/partial basin truth 6: the shoulder's mirror, joint
+    // 3 down to -3.25 against its -2.90, fitted as well as the truth, and
+    // reported ambiguous). Not a mirror that only shaves frames off a
+    // motion that noise carries past the limits.
     bool relieves = false;
+    const auto moved_at_limit = atWidenedLimit(robot, moved.q);
+    for (int i : move.whole_turn) {
+      const int j = guesses_[i].column;
+      relieves |= moved_at_limit.col(j).count() < at_limit.col(j).count();
+    }
     const auto moved_beyond = beyondLimits(robot, moved.q);
-    for (const std::vector<int>* turned : {&move.flip, &move.half_turn, &move.whole_turn})
+    bool left = false, inside = true;
+    for (const std::vector<int>* turned : {&move.flip, &move.half_turn})
       for (int i : *turned) {
         const int j = guesses_[i].column;
-        relieves |= moved_beyond.col(j).count() < beyond.col(j).count();
+        left |= beyond.col(j).count() > often;
+        inside &= moved_beyond.col(j).count() == 0;
       }
+    relieves |= left && inside;
     const double cost = refinedCost(std::move(theta), std::move(moved), PotSteps::kInverseCharts);
     if (cost < best) {
       best = cost, chosen = move;
     } else if (relieves && cost <= within_cost) {
       within_cost = cost, within = move;
     }
-  }
+  };
+  std::vector<MinimumMove> moves = minimumMoves(guesses_, moves_);
+  for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
+  for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
+  for (const MinimumMove& move : moves) consider(move);
+  // A wrist or shoulder flip is exact about the mirrored joints' zeros (or
+  // kπ, flipAboutTurns); its sign move about the motion's mean is not, and
+  // refined from there may not reach the exact one. Where no move helped,
+  // the exact ones are tried (panda/partial basin truth 8: the shoulder's
+  // mirror, joint 1 beyond its limit in 108 of 600 frames; the move back
+  // about the mean refined to 0.7% worse and the run ended reported
+  // ambiguous).
+  if (!chosen && !within)
+    for (MinimumMove move : moves)
+      if (!move.flip.empty() && !move.half_turn.empty() && !move.flip_about_zero) {
+        move.flip_about_zero = true;
+        consider(move);
+      }
   if (!chosen) chosen = within;
-  if (!chosen) return chosen;
-  // On every frame, θ re-fitted in closed form to the moved angles before
-  // the run's coupled steps go on from it: with the markers between the
-  // moved joints where they were, a first coupled step took panda/partial
-  // basin truth 6 to a cost of 8e7 and its wrist a whole turn beyond the
-  // limits in every frame, and the jump was refused.
-  moveTo(*chosen, false, obs_, &est->theta, &est->state);
-  ThetaPhaseOptions to;
-  to.threads = threads_;
-  thetaPhase(model_, noise_, loss_, obs_, est->state, to, ws_, &est->theta);
+  if (chosen) moveTo(*chosen, false, obs_, &est->theta, &est->state);
   return chosen;
 }
 
