@@ -10,10 +10,9 @@
 //    to the moved angles before the run's coupled steps go on (a first
 //    coupled step from the moved state threw the wrist a whole turn beyond
 //    its limits and the jump was refused).
-//  - 8: joint 1 beyond its limit in 108 of 600 frames, few of them at the
-//    q-phase's widened bound (the escape counted only those); the move back
-//    mirrored about the motion's mean refined to 0.7% worse, the exact one
-//    about the joint's zero is now tried too.
+//  - 8: joint 1 beyond its limit in 108 of 600 frames; the move back
+//    mirrored about the motion's mean refined to 0.7% worse. Where no move
+//    helps, the exact one about the joint's zero is tried too.
 #include <gtest/gtest.h>
 
 #include <fstream>
