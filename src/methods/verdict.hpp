@@ -29,9 +29,10 @@ constexpr double kSuspectShareAtLimit = 0.10;
 // A frame counts as put beyond a joint's limit when its unconstrained angle
 // lies beyond the URDF's limit by more than this many of its own std.
 constexpr double kLimitExcessStd = 3.0;
-// The share of frames beyond a joint's URDF limits from which a converged
-// run looks for a better minimum (alternation.cpp): a false start costs
-// only time.
+// The share of frames at a limit from which a converged run looks for a
+// better minimum (alternation.cpp): a false start costs only time. Also the
+// share beyond a joint's URDF limits from which a mirror move that brings
+// the joint inside them counts as relieving them (wide_basin.cpp).
 constexpr double kEscapeShareAtLimit = 0.02;
 
 // The joints (q indices) q holds at a limit in more than `share` of its

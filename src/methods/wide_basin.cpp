@@ -3,13 +3,12 @@
 // closed-form mocap frame and markers, then a marker-led alternation.
 #include "methods/wide_basin.hpp"
 
-#include "methods/verdict.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
 #include "methods/tree_search.hpp"
+#include "methods/verdict.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
 #include "solve/schur.hpp"
