@@ -63,6 +63,28 @@ TEST(JointLimits, BeyondTheURDFLimitsCountsEveryAnglePastThem) {
   EXPECT_EQ(atWidenedLimit(c.robot, q).count(), 2);  // only the last two
 }
 
+// The escape's trigger within the 5% widening (jointsOftenBeyondLimits):
+// frames count where the readings put the angle beyond the URDF's limit by
+// more than 3 of its own std. The chain's j3 logged over [-1, 2.5] with a
+// URDF whose j3 stops at ±2.3 (the truth's angles past 2.3 in about a tenth
+// of the frames, all within the widened 2.53): j3 is listed from a 2%
+// share, not from a share it does not reach. (Angles past the limit by
+// their noise alone: FramesAtTheBoundByNoiseAloneAreNoEvidence below.)
+TEST(JointLimits, OftenBeyondTheLimitsCountsFramesBeyondByMoreThanTheirNoise) {
+  const Chain c(2.3);
+  const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
+  const RobustLoss none;
+  const auto beyond = beyondLimits(c.robot, c.q);
+  const double share = static_cast<double>(beyond.col(2).count()) / c.q.rows();
+  ASSERT_GT(share, 0.04) << "j3 should pass its URDF limit in some frames";
+  ASSERT_EQ(atWidenedLimit(c.robot, c.q).col(2).count(), 0) << "and stay within the widening";
+  const auto listed = [&](const RowMatrix& q, double at) {
+    return jointsOftenBeyondLimits(c.model, c.truth.theta, noise, none, c.obs, q, at);
+  };
+  EXPECT_EQ(listed(c.q, 0.02), std::vector<int>{2});
+  EXPECT_TRUE(listed(c.q, share + 0.01).empty());
+}
+
 TEST(JointLimits, AWholeTurnWhereTheLimitsSpanMoreThanOneOrTheMotionLeavesThem) {
   const Chain c(4.0);
   const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
@@ -174,6 +196,12 @@ TEST(JointLimits, FramesAtTheBoundByNoiseAloneAreNoEvidence) {
   ASSERT_NE(std::find(often.begin(), often.end(), 2), often.end())
       << "j3 should reach the widened bound in more than 10% of the frames";
   EXPECT_FALSE(r.summary.suspect()) << (r.summary.verdict.empty() ? "" : r.summary.verdict[0]);
+  // Nor do they start the escape's search (alternation.cpp): past the URDF
+  // limit in many frames, never by more than their noise.
+  ASSERT_GT(beyondLimits(c.robot, q).col(2).count(), 0.1 * q.rows());
+  EXPECT_TRUE(jointsOftenBeyondLimits(c.model, r.theta, NoiseModel::fromSeeds(c.truth.sensors),
+                                      RobustLoss(), c.obs, q, kEscapeShareAtLimit)
+                  .empty());
   const GainBias& truth = c.truth.theta.joint_sensor[2];
   EXPECT_NEAR(r.theta.joint_sensor[2].gain, truth.gain, 4 * r.std.joint_sensor[2].gain);
 }

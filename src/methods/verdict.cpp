@@ -208,42 +208,6 @@ bool placementUndetermined(const RobotModel& robot, const CalibrationResult& r, 
   return false;
 }
 
-// Of the frames where q holds joint j at a bound of the q-phase's box, how
-// many the readings put beyond the URDF's limit by more than
-// kLimitExcessStd of that frame's own angle std: from the bound, the frame's
-// unconstrained Gauss-Newton step and H⁻¹'s diagonal at the final θ and σ.
-// A joint whose angle a frame knows no better than the 5% widening (a
-// finger whose pot's stroke is its noise) reaches the bound by noise alone
-// wherever its true motion nears a limit; a wrong minimum's readings ask
-// for angles far beyond it.
-int framesBeyondLimit(const MethodInput& in, const Outcome& out, const Fit& fit,
-                      const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& at, int j) {
-  const MeasurementModel& model = in.problem.model;
-  const RobotModel& robot = model.robot();
-  const Eigen::VectorXd lower = robot.lowerLimits(), upper = robot.upperLimits();
-  FrameWorkspace ws(model);
-  FrameOptions eval;
-  const int dof = model.dof();
-  Eigen::MatrixXd H(dof, dof);
-  Eigen::VectorXd g(dof);
-  int beyond = 0;
-  for (int t = 0; t < fit.q.rows(); ++t) {
-    if (!at(t, j)) continue;
-    const Eigen::VectorXd q = fit.q.row(t).transpose();
-    evaluateFrame(model, out.theta, out.noise, in.problem.loss, frameReadings(fit.obs, t), q,
-                  eval, &ws);
-    accumulateNormalEquations(ws, &H, &g);
-    H.diagonal().array() += ridge(H.diagonal());
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
-    const double sd = std::sqrt(ldlt.solve(Eigen::VectorXd::Unit(dof, j))[j]);
-    const double free = q[j] - ldlt.solve(g)[j];
-    const bool at_upper = std::abs(q[j] - upper[j]) < std::abs(q[j] - lower[j]);
-    const double excess = at_upper ? free - upper[j] : lower[j] - free;
-    if (std::isfinite(sd) && excess > kLimitExcessStd * sd) ++beyond;
-  }
-  return beyond;
-}
-
 void checkLimits(const MethodInput& in, const Outcome& out, const Fit& fit,
                  const CalibrationResult& r, std::vector<std::string>* why) {
   const RobotModel& robot = in.problem.model.robot();
@@ -251,7 +215,8 @@ void checkLimits(const MethodInput& in, const Outcome& out, const Fit& fit,
   const double frames = static_cast<double>(fit.q.rows());
   for (int j : jointsOftenAtLimit(robot, fit.q, kSuspectShareAtLimit)) {
     if (placementUndetermined(robot, r, j)) continue;
-    const int beyond = framesBeyondLimit(in, out, fit, at, j);
+    const int beyond = framesBeyondLimit(in.problem.model, out.theta, out.noise,
+                                         in.problem.loss, fit.obs, fit.q, at, j);
     if (beyond < 3 || beyond <= kSuspectShareAtLimit * frames) continue;
     why->push_back("joint " + robot.qName(j) +
                    format(" sits at its limit (the URDF's, widened by 5%%) in %.0f of %.0f frames, "
@@ -272,6 +237,54 @@ std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q,
     const auto n = at.col(j).count();
     if (n >= 3 && n > share * static_cast<double>(q.rows())) out.push_back(j);
   }
+  return out;
+}
+
+// From a frame's angles (at a bound of the q-phase's box, or free), its
+// unconstrained Gauss-Newton step and H⁻¹'s diagonal at θ and σ. A joint
+// whose angle a frame knows no better than the 5% widening (a finger whose
+// pot's stroke is its noise) reaches the bound by noise alone wherever its
+// true motion nears a limit; a wrong minimum's readings ask for angles far
+// beyond it.
+int framesBeyondLimit(const MeasurementModel& model, const SensorParameters& theta,
+                      const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
+                      const RowMatrix& q, const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& frames,
+                      int j) {
+  const RobotModel& robot = model.robot();
+  const Eigen::VectorXd lower = robot.lowerLimits(), upper = robot.upperLimits();
+  FrameWorkspace ws(model);
+  FrameOptions eval;
+  const int dof = model.dof();
+  Eigen::MatrixXd H(dof, dof);
+  Eigen::VectorXd g(dof);
+  int beyond = 0;
+  for (int t = 0; t < q.rows(); ++t) {
+    if (!frames(t, j)) continue;
+    const Eigen::VectorXd qt = q.row(t).transpose();
+    evaluateFrame(model, theta, noise, loss, frameReadings(obs, t), qt, eval, &ws);
+    accumulateNormalEquations(ws, &H, &g);
+    H.diagonal().array() += ridge(H.diagonal());
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+    const double sd = std::sqrt(ldlt.solve(Eigen::VectorXd::Unit(dof, j))[j]);
+    const double free = qt[j] - ldlt.solve(g)[j];
+    const bool at_upper = std::abs(qt[j] - upper[j]) < std::abs(qt[j] - lower[j]);
+    const double excess = at_upper ? free - upper[j] : lower[j] - free;
+    if (std::isfinite(sd) && excess > kLimitExcessStd * sd) ++beyond;
+  }
+  return beyond;
+}
+
+std::vector<int> jointsOftenBeyondLimits(const MeasurementModel& model,
+                                         const SensorParameters& theta, const NoiseModel& noise,
+                                         const RobustLoss& loss, const Observations& obs,
+                                         const RowMatrix& q, double share) {
+  const auto beyond = beyondLimits(model.robot(), q);
+  const double often = std::max(3.0, share * static_cast<double>(q.rows()));
+  std::vector<int> out;
+  for (int j = 0; j < beyond.cols(); ++j)
+    if (beyond.col(j).count() >= often &&
+        framesBeyondLimit(model, theta, noise, loss, obs, q, beyond, j) >= often)
+      out.push_back(j);
   return out;
 }
 

@@ -39,6 +39,24 @@ constexpr double kEscapeShareAtLimit = 0.02;
 // rows, and in at least 3.
 std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q, double share);
 
+// Of the frames `frames` marks for joint j, how many the readings put
+// beyond the URDF's limit by more than kLimitExcessStd of that frame's own
+// angle std (q: the fitted angles; θ, σ: the fit's).
+int framesBeyondLimit(const MeasurementModel& model, const SensorParameters& theta,
+                      const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
+                      const RowMatrix& q, const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& frames,
+                      int j);
+
+// The joints whose fitted angles lie beyond the URDF's limits, by more than
+// kLimitExcessStd of their own std, in at least `share` of the frames and in
+// at least 3. Within the 5% widening a wrong minimum's motion need not reach
+// the q-phase's bound (a shoulder's mirror image, panda/partial basin truth
+// 12) while it still asks for angles the robot cannot reach.
+std::vector<int> jointsOftenBeyondLimits(const MeasurementModel& model,
+                                         const SensorParameters& theta, const NoiseModel& noise,
+                                         const RobustLoss& loss, const Observations& obs,
+                                         const RowMatrix& q, double share);
+
 // The frames a method fitted (all of the log's, or the classical
 // regression's usable ones) and their q.
 struct Fit {
