@@ -240,16 +240,16 @@ std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q,
   return out;
 }
 
-// From a frame's angles (at a bound of the q-phase's box, or free), its
-// unconstrained Gauss-Newton step and H⁻¹'s diagonal at θ and σ. A joint
-// whose angle a frame knows no better than the 5% widening (a finger whose
-// pot's stroke is its noise) reaches the bound by noise alone wherever its
-// true motion nears a limit; a wrong minimum's readings ask for angles far
-// beyond it.
+// Each frame's unconstrained angle and its std come from its angles (at a
+// bound of the q-phase's box, or free), its Gauss-Newton step and H⁻¹'s
+// diagonal at θ and σ. A joint whose angle a frame knows no better than the
+// 5% widening (a finger whose pot's stroke is its noise) reaches the bound
+// by noise alone wherever its true motion nears a limit; a wrong minimum's
+// readings ask for angles far beyond it.
 int framesBeyondLimit(const MeasurementModel& model, const SensorParameters& theta,
                       const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
-                      const RowMatrix& q, const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& frames,
-                      int j) {
+                      const RowMatrix& q,
+                      const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& frames, int j) {
   const RobotModel& robot = model.robot();
   const Eigen::VectorXd lower = robot.lowerLimits(), upper = robot.upperLimits();
   FrameWorkspace ws(model);
@@ -279,11 +279,11 @@ std::vector<int> jointsOftenBeyondLimits(const MeasurementModel& model,
                                          const RobustLoss& loss, const Observations& obs,
                                          const RowMatrix& q, double share) {
   const auto beyond = beyondLimits(model.robot(), q);
-  const double often = std::max(3.0, share * static_cast<double>(q.rows()));
+  const auto often = [&](double n) { return n >= 3 && n > share * static_cast<double>(q.rows()); };
   std::vector<int> out;
   for (int j = 0; j < beyond.cols(); ++j)
-    if (beyond.col(j).count() >= often &&
-        framesBeyondLimit(model, theta, noise, loss, obs, q, beyond, j) >= often)
+    if (often(static_cast<double>(beyond.col(j).count())) &&
+        often(framesBeyondLimit(model, theta, noise, loss, obs, q, beyond, j)))
       out.push_back(j);
   return out;
 }

@@ -44,14 +44,14 @@ std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q,
 // angle std (q: the fitted angles; θ, σ: the fit's).
 int framesBeyondLimit(const MeasurementModel& model, const SensorParameters& theta,
                       const NoiseModel& noise, const RobustLoss& loss, const Observations& obs,
-                      const RowMatrix& q, const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& frames,
-                      int j);
+                      const RowMatrix& q,
+                      const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& frames, int j);
 
 // The joints whose fitted angles lie beyond the URDF's limits, by more than
-// kLimitExcessStd of their own std, in at least `share` of the frames and in
-// at least 3. Within the 5% widening a wrong minimum's motion need not reach
-// the q-phase's bound (a shoulder's mirror image, panda/partial basin truth
-// 12) while it still asks for angles the robot cannot reach.
+// kLimitExcessStd of their own std, in more than `share` of the frames and
+// in at least 3. Within the 5% widening a wrong minimum's motion need not
+// reach the q-phase's bound (a shoulder's mirror image, panda/partial basin
+// truth 12) while it still asks for angles the robot cannot reach.
 std::vector<int> jointsOftenBeyondLimits(const MeasurementModel& model,
                                          const SensorParameters& theta, const NoiseModel& noise,
                                          const RobustLoss& loss, const Observations& obs,
