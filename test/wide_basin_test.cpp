@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "stac/kinematics.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
@@ -438,10 +439,11 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   // The arm: 4 guesses, 3 of them below another: 4 flips and 4 half turns,
   // per pair a double flip, a wrist flip and a double half turn, the
   // three-joint wrist flips about j2 and j3, and the four-joint shoulder
-  // flip about j2 and j3.
+  // flip about j2 and j3, the roll flips about j1 and j2 (the roll half a
+  // turn, the two below it mirrored, the first of them half a turn too).
   // And the whole robot mirrored, every joint about its zero.
   const std::vector<MinimumMove> moves = minimumMoves(wb.guesses(), wb.moves());
-  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 2u + 1u + 1u);
+  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 2u + 1u + 2u + 1u);
   EXPECT_TRUE(moves.back().flip_about_zero);
   EXPECT_EQ(moves.back().flip, (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(std::count_if(moves.begin(), moves.end(),
@@ -454,6 +456,8 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   };
   EXPECT_EQ(count({{1}, {0, 2}, {}}), 1);
   EXPECT_EQ(count({{1, 2}, {0, 3}, {}}), 1);
+  EXPECT_EQ(count({{1, 2}, {0, 1}, {}}), 1);
+  EXPECT_EQ(count({{2, 3}, {1, 2}, {}}), 1);
   std::vector<PotGuess> held = wb.guesses();
   held[2].bias_held = true;
   for (const MinimumMove& m : minimumMoves(held, wb.moves()))
@@ -462,6 +466,52 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   for (const MinimumMove& m : minimumMoves(held, wb.moves())) {
     EXPECT_EQ(std::count(m.flip.begin(), m.flip.end(), 2), 0);
     EXPECT_EQ(std::count(m.half_turn.begin(), m.half_turn.end(), 2), 0);
+  }
+}
+
+// The roll flip (minimumMoves): a roll about x half a turn, the pitch about
+// y below it mirrored about a quarter turn (π − q), the next pitch
+// mirrored. R_x(π) R_y(π − q) = R_z(π) R_y(−q), and R_z(π) passes each
+// pitch as a mirror and each link offset along z unchanged: the roll's
+// link lies where it did turned half a turn about x (its offset to the
+// pitch along x), every link below the pitch turned half a turn about its
+// own z, so markers re-placed in those links fit exactly as well (a
+// finger's roll and two flexions, an arm's shoulder roll, pitch and elbow).
+// With an offset off z the last link's origin moves: no exact minimum then.
+TEST(MinimumMoves, TheRollFlipTurnsEveryLinkBelowHalfATurnAboutItsOwnZ) {
+  const auto chain = [](const std::string& offset) {
+    std::string u = R"(<robot name="finger"><link name="base"/><link name="l1"/><link name="l2"/>
+      <link name="l3"/>
+      <joint name="roll" type="revolute"><parent link="base"/><child link="l1"/>
+        <axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+      <joint name="pitch1" type="revolute"><parent link="l1"/><child link="l2"/>
+        <origin xyz="0.03 0 0"/><axis xyz="0 1 0"/>
+        <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+      <joint name="pitch2" type="revolute"><parent link="l2"/><child link="l3"/>
+        <origin xyz="OFFSET"/><axis xyz="0 1 0"/>
+        <limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>)";
+    u.replace(u.find("OFFSET"), 6, offset);
+    return RobotModel::fromString(u, "finger");
+  };
+  const Eigen::Vector3d q(0.4, -0.7, 0.9);
+  const Eigen::Vector3d flipped(q[0] + M_PI, M_PI - q[1], -q[2]);
+  const Eigen::Isometry3d half_x(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  const Eigen::Isometry3d half_z(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+  for (const bool on_z : {true, false}) {
+    const RobotModel robot = chain(on_z ? "0 0 -0.04" : "0.02 0 -0.04");
+    KinematicsWorkspace a(robot), b(robot);
+    forwardKinematics(robot, q, &a);
+    forwardKinematics(robot, flipped, &b);
+    for (const char* name : {"l1", "l2", "l3"}) {
+      const int l = *robot.linkIndex(name);
+      const Eigen::Isometry3d& turn = std::string(name) == "l1" ? half_x : half_z;
+      const Eigen::Matrix4d expected = (a.link_pose[l] * turn).matrix();
+      const double off = (b.link_pose[l].matrix() - expected).norm();
+      if (on_z || std::string(name) != "l3")
+        EXPECT_LT(off, 1e-12) << name;
+      else
+        EXPECT_GT(off, 1e-3) << "an offset off z moves the last link";
+    }
   }
 }
 
