@@ -1,6 +1,7 @@
 // Configurations the data cannot tell apart (see mirror_ambiguity.hpp).
 #include "methods/mirror_ambiguity.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "methods/wide_basin.hpp"
@@ -56,7 +57,10 @@ std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
                                     std.joint_sensor[s]);
         const std::string name = "joint_sensors." + sensors.joint_sensors[s].name;
         if (part == &move.flip) d.parameters.push_back(name + ".gain");
-        d.parameters.push_back(name + ".bias");
+        // (A joint both mirrored and turned, the roll flip's pitch: once.)
+        if (std::find(d.parameters.begin(), d.parameters.end(), name + ".bias") ==
+            d.parameters.end())
+          d.parameters.push_back(name + ".bias");
       }
     if (!changes) continue;
     std::string what;
