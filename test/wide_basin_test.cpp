@@ -437,13 +437,14 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   ArmSetup s(arm(100));
   const WideBasin wb = s.basin(s.p.seed);
   // The arm: 4 guesses, 3 of them below another: 4 flips and 4 half turns,
-  // per pair a double flip, a wrist flip and a double half turn, the
-  // three-joint wrist flips about j2 and j3, and the four-joint shoulder
-  // flip about j2 and j3, the roll flips about j1 and j2 (the roll half a
-  // turn, the two below it mirrored, the first of them half a turn too).
-  // And the whole robot mirrored, every joint about its zero.
+  // per pair a double flip, a wrist flip and a double half turn; the chain
+  // flips closed by a joint below (j1 with j2 mirrored and j3, j2 with j3
+  // mirrored and j4, j1 with j2 and j3 mirrored and j4), each with its first
+  // mirrored joint about zero or over the top, and those that end the chain
+  // (j1 with j2..j4, j2 with j3 and j4, j3 with j4), over the top. And the
+  // whole robot mirrored, every joint about its zero.
   const std::vector<MinimumMove> moves = minimumMoves(wb.guesses(), wb.moves());
-  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 2u + 1u + 2u + 1u);
+  EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 3u * 2u + 3u + 1u);
   EXPECT_TRUE(moves.back().flip_about_zero);
   EXPECT_EQ(moves.back().flip, (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(std::count_if(moves.begin(), moves.end(),
@@ -456,8 +457,10 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   };
   EXPECT_EQ(count({{1}, {0, 2}, {}}), 1);
   EXPECT_EQ(count({{1, 2}, {0, 3}, {}}), 1);
-  EXPECT_EQ(count({{1, 2}, {0, 1}, {}}), 1);
+  EXPECT_EQ(count({{1, 2}, {0, 1, 3}, {}}), 1);  // over the top, closed
+  EXPECT_EQ(count({{1, 2, 3}, {0, 1}, {}}), 1);  // over the top to the end
   EXPECT_EQ(count({{2, 3}, {1, 2}, {}}), 1);
+  EXPECT_EQ(count({{1, 2}, {0, 1}, {}}), 0);  // not the end: j4 would stay
   std::vector<PotGuess> held = wb.guesses();
   held[2].bias_held = true;
   for (const MinimumMove& m : minimumMoves(held, wb.moves()))
@@ -469,8 +472,8 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   }
 }
 
-// The roll flip (minimumMoves): a roll about x half a turn, the pitch about
-// y below it mirrored about a quarter turn (π − q), the next pitch
+// A chain flip over the top (minimumMoves): a roll about x half a turn, the
+// pitch about y below it mirrored over the top (π − q), the next pitch
 // mirrored. R_x(π) R_y(π − q) = R_z(π) R_y(−q), and R_z(π) passes each
 // pitch as a mirror and each link offset along z unchanged: the roll's
 // link lies where it did turned half a turn about x (its offset to the

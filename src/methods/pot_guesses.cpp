@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <utility>
 
@@ -263,35 +264,44 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
     }
     if (m.size() == 2) pairs.push_back(m);
   }
-  // The wrist flip of three joints: the middle one mirrored, the ones above
-  // and below it half a turn.
+  // Chain flips: a joint half a turn and the k consecutive joints below it
+  // mirrored (1 <= k <= kMaxMirrored), closed by the joint below them half
+  // a turn or, where the mirrored ones end their chain, by nothing; the
+  // first mirrored one either about zero (−q) or over the top (π − q:
+  // R_a(π) R_b(π − q) = R_c(π) R_b(−q) for perpendicular axes a, b and
+  // c = a × b, the links below then passing through the same places turned
+  // half a turn about c). Their links pass through the same places, so the
+  // markers on or beyond them tell the two configurations apart barely or
+  // not at all. k = 1 closed is a serial chain's wrist flip; k = 2 closed
+  // its shoulder flip (an elbow's parallel axes: a Kinova Jaco's q1 + π,
+  // −q2, −q3, q4 + π about its limits' zeros; a random truth ended there,
+  // 0.06% above the truth's cost, silent); unseen robots on partial swings
+  // converged, flagged, in a Finger Edu's roll and two flexions over the
+  // top (q1 + π, π − q2, −q3; 2 of 10 truths, the roll beyond its limit in
+  // ~580 of 600 frames) and a Unitree Z1's yaw, three pitches and wrist
+  // over the top, closed by its last roll (q1 + π, π − q2, −q3..−q5,
+  // q6 + π; joint 1 beyond its limit in 341 of 600 frames), each found
+  // back by these moves about the joints' zeros.
+  constexpr size_t kMaxMirrored = 4;
+  std::vector<int> mirrored;
+  const std::function<void(int, int)> below = [&](int up, int mid) {
+    mirrored.push_back(mid);
+    const bool top = turnable(mirrored[0]);  // may go over the top
+    bool end = true;
+    for (const std::vector<int>& down : pairs) {
+      if (down[0] != mid) continue;
+      end = false;
+      if (turnable(down[1])) {
+        moves.push_back({mirrored, {up, down[1]}, {}});
+        if (top) moves.push_back({mirrored, {up, mirrored[0], down[1]}, {}});
+      }
+      if (mirrored.size() < kMaxMirrored) below(up, down[1]);
+    }
+    if (end && top) moves.push_back({mirrored, {up, mirrored[0]}, {}});
+    mirrored.pop_back();
+  };
   for (const std::vector<int>& up : pairs)
-    for (const std::vector<int>& down : pairs)
-      if (up[1] == down[0] && turnable(up[0]) && turnable(down[1]))
-        moves.push_back({{up[1]}, {up[0], down[1]}, {}});
-  // The shoulder flip of four: two neighbours mirrored (an elbow's
-  // parallel axes), the ones above and below them half a turn (a Kinova
-  // Jaco's q1 + π, −q2, −q3, q4 + π about its limits' zeros: a random truth
-  // ended there, 0.06% above the truth's cost, silent).
-  for (const std::vector<int>& up : pairs)
-    for (const std::vector<int>& mid : pairs)
-      for (const std::vector<int>& down : pairs)
-        if (up[1] == mid[0] && mid[1] == down[0] && turnable(up[0]) && turnable(down[1]))
-          moves.push_back({{mid[0], mid[1]}, {up[0], down[1]}, {}});
-  // A roll half a turn with the two joints below it mirrored, the first
-  // about a quarter turn (π − q): R_a(π) R_b(π − q) = R_c(π) R_b(−q) for
-  // perpendicular axes a, b and c = a × b, so the links below the first
-  // pitch pass through the same places turned half a turn about c, exactly
-  // where their offsets lie on c and the roll's to the pitch on a (an arm's
-  // shoulder roll, pitch and elbow; a finger's roll and two flexions;
-  // markers on those links then re-placed). An unseen Finger Edu on partial swings converged so, its
-  // roll beyond the URDF limit in 582 of 600 frames, flagged, in 2 of 10
-  // truths; this move from there (its mirrors about the joints' zeros, the
-  // escape's retry) fits 2% better and the run reaches the truth.
-  for (const std::vector<int>& up : pairs)
-    for (const std::vector<int>& mid : pairs)
-      if (up[1] == mid[0] && turnable(up[0]) && turnable(mid[0]))
-        moves.push_back({{mid[0], mid[1]}, {up[0], mid[0]}, {}});
+    if (turnable(up[0])) below(up[0], up[1]);
   // Every joint mirrored at once, the mocap frame's closed form turning
   // with them: where every joint's axis is perpendicular to one direction,
   // a half turn of the whole robot about it reverses every axis (Finger
