@@ -443,7 +443,7 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   // mirrored joint about zero or over the top, and those that end the chain
   // (j1 with j2..j4, j2 with j3 and j4, j3 with j4), over the top. And the
   // whole robot mirrored, every joint about its zero.
-  const std::vector<MinimumMove> moves = minimumMoves(wb.guesses(), wb.moves());
+  const std::vector<MinimumMove> moves = minimumMoves(s.p.robot, wb.guesses(), wb.moves());
   EXPECT_EQ(moves.size(), 4u + 4u + 3u * 3u + 3u * 2u + 3u + 1u);
   EXPECT_TRUE(moves.back().flip_about_zero);
   EXPECT_EQ(moves.back().flip, (std::vector<int>{0, 1, 2, 3}));
@@ -463,10 +463,10 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   EXPECT_EQ(count({{1, 2}, {0, 1}, {}}), 0);  // not the end: j4 would stay
   std::vector<PotGuess> held = wb.guesses();
   held[2].bias_held = true;
-  for (const MinimumMove& m : minimumMoves(held, wb.moves()))
+  for (const MinimumMove& m : minimumMoves(s.p.robot, held, wb.moves()))
     EXPECT_EQ(std::count(m.half_turn.begin(), m.half_turn.end(), 2), 0);
   held[2].fixed = true;  // a held gain: no move touches the guess
-  for (const MinimumMove& m : minimumMoves(held, wb.moves())) {
+  for (const MinimumMove& m : minimumMoves(s.p.robot, held, wb.moves())) {
     EXPECT_EQ(std::count(m.flip.begin(), m.flip.end(), 2), 0);
     EXPECT_EQ(std::count(m.half_turn.begin(), m.half_turn.end(), 2), 0);
   }
@@ -524,7 +524,7 @@ TEST(MinimumMoves, TheRollFlipTurnsEveryLinkBelowHalfATurnAboutItsOwnZ) {
 TEST(MinimumMoves, TheWholeRobotMirrorNegatesEveryAngleAndKeepsThePotsPredictions) {
   ArmSetup s(arm(100));
   const WideBasin wb = s.basin(s.p.seed);
-  const MinimumMove mirror = minimumMoves(wb.guesses(), wb.moves()).back();
+  const MinimumMove mirror = minimumMoves(s.p.robot, wb.guesses(), wb.moves()).back();
   ASSERT_TRUE(mirror.flip_about_zero);
   Estimate est = atTheTruth(s.p);
   applyMove(s.p.robot, wb.guesses(), mirror, &est.theta, &est.state.q);

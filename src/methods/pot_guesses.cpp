@@ -249,8 +249,22 @@ void wrapAngles(const PotGuess& g, RowMatrix* q) {
 }
 }  // namespace
 
-std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
-                                      const std::vector<std::vector<int>>& sign_moves) {
+namespace {
+// Whether the joints of columns `up` and `below` (below its nearest moving
+// ancestor up) turn about perpendicular axes: with no joint between them
+// their angle is the same in every configuration, so the zero one tells.
+// A half turn about up's axis then reverses below's.
+bool perpendicularAxes(const RobotModel& robot, int up, int below) {
+  KinematicsWorkspace ws(robot);
+  forwardKinematics(robot, Eigen::VectorXd::Zero(robot.dof()), &ws);
+  const int a = robot.qJoints()[up], b = robot.qJoints()[below];
+  return std::abs(ws.joint_axis[a].dot(ws.joint_axis[b])) < 1e-6;
+}
+}  // namespace
+
+std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                                      const std::vector<std::vector<int>>& sign_moves,
+                                      bool long_chains) {
   std::vector<MinimumMove> moves;
   auto turnable = [&](int i) { return !guesses[i].bias_held; };
   std::vector<std::vector<int>> pairs;  // {above, below}
@@ -282,26 +296,30 @@ std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
   // over the top, closed by its last roll (q1 + π, π − q2, −q3..−q5,
   // q6 + π; joint 1 beyond its limit in 341 of 600 frames), each found
   // back by these moves about the joints' zeros.
-  constexpr size_t kMaxMirrored = 4;
+  // Beyond the wrist and shoulder flips about zero (k <= 2, closed), only
+  // with `long_chains`, and each only where the half-turned joint's axis is
+  // perpendicular to the first mirrored one's, which the identities need.
+  const size_t kMaxMirrored = long_chains ? 4 : 2;
   std::vector<int> mirrored;
-  const std::function<void(int, int)> below = [&](int up, int mid) {
+  const std::function<void(int, int, bool)> below = [&](int up, int mid, bool perpendicular) {
     mirrored.push_back(mid);
-    const bool top = turnable(mirrored[0]);  // may go over the top
+    const bool top = long_chains && perpendicular && turnable(mirrored[0]);  // over the top
     bool end = true;
     for (const std::vector<int>& down : pairs) {
       if (down[0] != mid) continue;
       end = false;
       if (turnable(down[1])) {
-        moves.push_back({mirrored, {up, down[1]}, {}});
+        if (mirrored.size() <= 2 || perpendicular) moves.push_back({mirrored, {up, down[1]}, {}});
         if (top) moves.push_back({mirrored, {up, mirrored[0], down[1]}, {}});
       }
-      if (mirrored.size() < kMaxMirrored) below(up, down[1]);
+      if (mirrored.size() < kMaxMirrored) below(up, down[1], perpendicular);
     }
     if (end && top) moves.push_back({mirrored, {up, mirrored[0]}, {}});
     mirrored.pop_back();
   };
   for (const std::vector<int>& up : pairs)
-    if (turnable(up[0])) below(up[0], up[1]);
+    if (turnable(up[0])) below(up[0], up[1], perpendicularAxes(robot, guesses[up[0]].column,
+                                                               guesses[up[1]].column));
   // Every joint mirrored at once, the mocap frame's closed form turning
   // with them: where every joint's axis is perpendicular to one direction,
   // a half turn of the whole robot about it reverses every axis (Finger

@@ -333,7 +333,7 @@ bool WideBasin::recheckSigns(Estimate* est) const {
   return flipped_any;
 }
 
-std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
+std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est, bool long_chains) const {
   QState sub;
   sub.q = subsampleAngles(est->state.q);
   const double base = refinedCost(est->theta, sub, PotSteps::kInverseCharts);
@@ -377,7 +377,7 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est) const {
       within_cost = cost, within = move;
     }
   };
-  std::vector<MinimumMove> moves = minimumMoves(guesses_, moves_);
+  std::vector<MinimumMove> moves = minimumMoves(model_.robot(), guesses_, moves_, long_chains);
   for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
   for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
   for (const MinimumMove& move : moves) consider(move);
@@ -447,7 +447,7 @@ std::vector<MinimumMove> WideBasin::equivalentMoves(const Estimate& est) const {
   sub.q = subsampleAngles(est.state.q);
   const double base = refitCost(est.theta, sub);
   std::vector<MinimumMove> out;
-  for (const MinimumMove& move : minimumMoves(guesses_, moves_)) {
+  for (const MinimumMove& move : minimumMoves(model_.robot(), guesses_, moves_)) {
     SensorParameters theta = est.theta;
     QState moved = sub;
     moveTo(move, true, sub_, &theta, &moved);

@@ -147,8 +147,11 @@ struct MinimumMove {
 // chain: its links then pass through the same places, so markers on or
 // beyond them barely tell the two apart, or not at all); and both joints of
 // a pair half a turn. None that changes a held gain or bias.
-std::vector<MinimumMove> minimumMoves(const std::vector<PotGuess>& guesses,
-                                      const std::vector<std::vector<int>>& sign_moves);
+// With `long_chains`, also the chain flips of 3-4 mirrored joints and those
+// over the top (pot_guesses.cpp).
+std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                                      const std::vector<std::vector<int>>& sign_moves,
+                                      bool long_chains = true);
 // Each guess on a revolute joint with limits, a whole turn: the same
 // kinematics and pot predictions, but a log's motion placed a turn off
 // runs into the limits. Offered where the limits span more than a turn (a
@@ -281,7 +284,10 @@ class WideBasin {
   // angles lie within them, and a motion placed a turn off that runs only a
   // little past a limit costs hardly more. est is a converged calibration
   // of obs.
-  std::optional<MinimumMove> jumpToBetterMinimum(Estimate* est) const;
+  // `long_chains`: minimumMoves' long chain flips too (a joint at or beyond
+  // its limits: their mirrors' mark; a misfit alone, from a log noisier
+  // than its seed σ says, would pay for them in every run).
+  std::optional<MinimumMove> jumpToBetterMinimum(Estimate* est, bool long_chains = true) const;
   // The jumps of minimumMoves from est that keep every angle within the
   // q-phase's limits and fit the subsample as well as est (cost within
   // kSameFit), θ re-fitted in closed form at the moved angles: other
