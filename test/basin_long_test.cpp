@@ -66,13 +66,7 @@ std::vector<Robot> robots(int max_dof) {
     const std::string urdf = test::dataPath(std::string(name) + ".urdf");
     const std::string truth = test::dataPath(std::string(name) + "_seed.yaml");
     if (test::readFile(urdf).empty() || test::readFile(truth).empty()) continue;
-    RobotModel m = RobotModel::fromFile(urdf);
-    // The seed file defines which parameters are fixed (the gauge); the
-    // truth file the values of the fixed ones.
-    SensorsFile seed = loadSensorsFile(truth, m);
-    SensorsFile tr = loadSensorsFile(test::dataPath(std::string(name) + "_truth.yaml"), m);
-    seed.theta = tr.theta;
-    out.push_back({name, std::move(m), std::move(seed), 500});
+    out.push_back(test::bundledRobot(name, 500));
   }
   // Real public robots (STAC_ROBOTS_DIR) with the sensors a user would log
   // without a sensors file, the gauges removed by CAD-known markers.

@@ -12,21 +12,13 @@
 #include <string>
 
 #include "stac/calibrate.hpp"
-#include "stac/sensors_file.hpp"
 #include "support/basin_draws.hpp"
-#include "support/test_util.hpp"
 
 namespace stac {
 namespace {
 
 TEST(EscapeStart, AFoldedAnkleIsLeftFromTheStartItsJumpWasScoredFrom) {
-  const std::string urdf = test::dataPath("humanoid38.urdf");
-  RobotModel m = RobotModel::fromFile(urdf);
-  // As the basin test builds it: the seed's fixed parameters, the truth's
-  // values for them.
-  SensorsFile seed = loadSensorsFile(test::dataPath("humanoid38_seed.yaml"), m);
-  seed.theta = loadSensorsFile(test::dataPath("humanoid38_truth.yaml"), m).theta;
-  const test::Robot humanoid{"humanoid38", std::move(m), std::move(seed), 500};
+  const test::Robot humanoid = test::bundledRobot("humanoid38", 500);  // as the basin test
   const auto [truth, r] = test::replayBasinTruth(humanoid, test::Variant::kPartialSwings, 13);
   std::string why;
   EXPECT_TRUE(test::closeToTruth(humanoid.model, humanoid.truth.sensors, truth, r, &why)) << why;

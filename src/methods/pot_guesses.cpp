@@ -250,15 +250,16 @@ void wrapAngles(const PotGuess& g, RowMatrix* q) {
 }  // namespace
 
 namespace {
-// Whether the joints of columns `up` and `below` (below its nearest moving
-// ancestor up) turn about perpendicular axes: with no joint between them
-// their angle is the same in every configuration, so the zero one tells.
-// A half turn about up's axis then reverses below's.
-bool perpendicularAxes(const RobotModel& robot, int up, int below) {
+// Each column's joint axis at the zero configuration (base frame). A joint
+// and its nearest moving ancestor, with no joint between them, keep the
+// same angle between their axes in every configuration, so the zero one
+// tells whether a half turn about the ancestor's axis reverses the joint's.
+std::vector<Eigen::Vector3d> axesAtZero(const RobotModel& robot) {
   KinematicsWorkspace ws(robot);
   forwardKinematics(robot, Eigen::VectorXd::Zero(robot.dof()), &ws);
-  const int a = robot.qJoints()[up], b = robot.qJoints()[below];
-  return std::abs(ws.joint_axis[a].dot(ws.joint_axis[b])) < 1e-6;
+  std::vector<Eigen::Vector3d> out;
+  for (int j = 0; j < robot.dof(); ++j) out.push_back(ws.joint_axis[robot.qJoints()[j]]);
+  return out;
 }
 }  // namespace
 
@@ -303,7 +304,7 @@ std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector
   std::vector<int> mirrored;
   const std::function<void(int, int, bool)> below = [&](int up, int mid, bool perpendicular) {
     mirrored.push_back(mid);
-    const bool top = long_chains && perpendicular && turnable(mirrored[0]);  // over the top
+    const bool top = perpendicular && turnable(mirrored[0]);  // over the top
     bool end = true;
     for (const std::vector<int>& down : pairs) {
       if (down[0] != mid) continue;
@@ -317,9 +318,14 @@ std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector
     if (end && top) moves.push_back({mirrored, {up, mirrored[0]}, {}});
     mirrored.pop_back();
   };
+  const std::vector<Eigen::Vector3d> axes =
+      long_chains ? axesAtZero(robot) : std::vector<Eigen::Vector3d>();
+  const auto perpendicularPair = [&](const std::vector<int>& pair) {
+    return long_chains &&
+           std::abs(axes[guesses[pair[0]].column].dot(axes[guesses[pair[1]].column])) < 1e-6;
+  };
   for (const std::vector<int>& up : pairs)
-    if (turnable(up[0])) below(up[0], up[1], perpendicularAxes(robot, guesses[up[0]].column,
-                                                               guesses[up[1]].column));
+    if (turnable(up[0])) below(up[0], up[1], perpendicularPair(up));
   // Every joint mirrored at once, the mocap frame's closed form turning
   // with them: where every joint's axis is perpendicular to one direction,
   // a half turn of the whole robot about it reverses every axis (Finger

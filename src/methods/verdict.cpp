@@ -234,8 +234,8 @@ std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q,
   const auto at = atWidenedLimit(robot, q);
   std::vector<int> out;
   for (int j = 0; j < at.cols(); ++j) {
-    const auto n = at.col(j).count();
-    if (n >= 3 && n > share * static_cast<double>(q.rows())) out.push_back(j);
+    if (often(static_cast<double>(at.col(j).count()), static_cast<double>(q.rows()), share))
+      out.push_back(j);
   }
   return out;
 }
@@ -279,11 +279,11 @@ std::vector<int> jointsOftenBeyondLimits(const MeasurementModel& model,
                                          const RobustLoss& loss, const Observations& obs,
                                          const RowMatrix& q, double share) {
   const auto beyond = beyondLimits(model.robot(), q);
-  const auto often = [&](double n) { return n >= 3 && n > share * static_cast<double>(q.rows()); };
+  const double rows = static_cast<double>(q.rows());
   std::vector<int> out;
   for (int j = 0; j < beyond.cols(); ++j)
-    if (often(static_cast<double>(beyond.col(j).count())) &&
-        often(framesBeyondLimit(model, theta, noise, loss, obs, q, beyond, j)))
+    if (often(static_cast<double>(beyond.col(j).count()), rows, share) &&
+        often(framesBeyondLimit(model, theta, noise, loss, obs, q, beyond, j), rows, share))
       out.push_back(j);
   return out;
 }

@@ -35,6 +35,12 @@ constexpr double kLimitExcessStd = 3.0;
 // the joint inside them counts as relieving them (wide_basin.cpp).
 constexpr double kEscapeShareAtLimit = 0.02;
 
+// Whether `count` of `rows` frames is "often": more than `share` of them,
+// and at least 3 (the escape's trigger, its relief and the verdict alike).
+inline bool often(double count, double rows, double share) {
+  return count >= 3 && count > share * rows;
+}
+
 // The joints (q indices) q holds at a limit in more than `share` of its
 // rows, and in at least 3.
 std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q, double share);

@@ -340,7 +340,6 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est, bool lo
   const RobotModel& robot = model_.robot();
   const auto at_limit = atWidenedLimit(robot, sub.q);
   const auto beyond = beyondLimits(robot, sub.q);
-  const double often = std::max(3.0, kEscapeShareAtLimit * static_cast<double>(sub.q.rows()));
   double best = kBetterMinimum * base, within_cost = (1 + kSameFit) * base;
   std::optional<MinimumMove> chosen, within;
   const auto consider = [&](const MinimumMove& move) {
@@ -366,7 +365,8 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est, bool lo
     for (const std::vector<int>* turned : {&move.flip, &move.half_turn})
       for (int i : *turned) {
         const int j = guesses_[i].column;
-        left |= beyond.col(j).count() > often;
+        left |= often(static_cast<double>(beyond.col(j).count()),
+                      static_cast<double>(sub.q.rows()), kEscapeShareAtLimit);
         inside &= moved_beyond.col(j).count() == 0;
       }
     relieves |= left && inside;

@@ -146,9 +146,10 @@ struct MinimumMove {
 // and below them half a turn (the "wrist" and "shoulder flips" of a serial
 // chain: its links then pass through the same places, so markers on or
 // beyond them barely tell the two apart, or not at all); and both joints of
-// a pair half a turn. None that changes a held gain or bias.
-// With `long_chains`, also the chain flips of 3-4 mirrored joints and those
-// over the top (pot_guesses.cpp).
+// a pair half a turn. With `long_chains`, also the chain flips of 3-4
+// mirrored joints, those over the top and those to the chain's end
+// (pot_guesses.cpp), where the first mirrored joint's axis is perpendicular
+// to the half-turned one's. None that changes a held gain or bias.
 std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves,
                                       bool long_chains = true);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "stac/theta_space.hpp"
 #include "support/external_sensors.hpp"
@@ -137,6 +138,13 @@ bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParam
       return false;
   }
   return true;
+}
+
+Robot bundledRobot(const std::string& name, int frames) {
+  RobotModel m = RobotModel::fromFile(dataPath(name + ".urdf"));
+  SensorsFile seed = loadSensorsFile(dataPath(name + "_seed.yaml"), m);
+  seed.theta = loadSensorsFile(dataPath(name + "_truth.yaml"), m).theta;
+  return {name, std::move(m), std::move(seed), frames};
 }
 
 Robot externalRobot(RobotModel m, int frames) {

@@ -25,6 +25,10 @@ struct Robot {
 // the gauges removed by CAD-known markers (external_sensors.hpp).
 Robot externalRobot(RobotModel m, int frames);
 
+// A bundled robot (data/<name>.urdf): the seed file's fixed parameters
+// (the gauges), the truth file's values for them.
+Robot bundledRobot(const std::string& name, int frames);
+
 // A random truth around `base`: a random mocap frame, gains of both signs
 // over 0.3-3 per radian (a prismatic joint's per its stroke), biases up to
 // ±1 rad-equivalent, free markers within 5 cm of their link origins; fixed
