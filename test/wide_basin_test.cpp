@@ -461,6 +461,24 @@ TEST(MinimumMoves, EveryJumpOfEachGuessAndItsParentButNoneOfAHeldBias) {
   EXPECT_EQ(count({{1, 2, 3}, {0, 1}, {}}), 1);  // over the top to the end
   EXPECT_EQ(count({{2, 3}, {1, 2}, {}}), 1);
   EXPECT_EQ(count({{1, 2}, {0, 1}, {}}), 0);  // not the end: j4 would stay
+  // Marking joints keeps the short moves (all but the 3 over the top
+  // closed and the 3 to the chain's end) and the long chain flips that turn
+  // or mirror a marked joint: with j4, the 5 that reach it (all but j1 with
+  // j2 mirrored over the top, closed by j3).
+  std::vector<bool> through(s.p.robot.dof(), false);
+  const auto short_moves = minimumMoves(s.p.robot, wb.guesses(), wb.moves(), &through);
+  EXPECT_EQ(short_moves.size(), moves.size() - 6u);
+  through[wb.guesses()[3].column] = true;
+  const auto through_j4 = minimumMoves(s.p.robot, wb.guesses(), wb.moves(), &through);
+  EXPECT_EQ(through_j4.size(), short_moves.size() + 5u);
+  for (const MinimumMove& m : through_j4) {
+    const bool is_short = std::any_of(short_moves.begin(), short_moves.end(), [&](const auto& o) {
+      return o.flip == m.flip && o.half_turn == m.half_turn;
+    });
+    const bool reaches_j4 = std::count(m.flip.begin(), m.flip.end(), 3) +
+                            std::count(m.half_turn.begin(), m.half_turn.end(), 3);
+    EXPECT_TRUE(is_short || reaches_j4) << m.flip.size() << " mirrored";
+  }
   std::vector<PotGuess> held = wb.guesses();
   held[2].bias_held = true;
   for (const MinimumMove& m : minimumMoves(s.p.robot, held, wb.moves()))

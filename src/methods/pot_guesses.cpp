@@ -265,7 +265,7 @@ std::vector<Eigen::Vector3d> axesAtZero(const RobotModel& robot) {
 
 std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves,
-                                      bool long_chains) {
+                                      const std::vector<bool>* through) {
   std::vector<MinimumMove> moves;
   auto turnable = [&](int i) { return !guesses[i].bias_held; };
   std::vector<std::vector<int>> pairs;  // {above, below}
@@ -298,8 +298,17 @@ std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector
   // q6 + π; joint 1 beyond its limit in 341 of 600 frames), each found
   // back by these moves about the joints' zeros.
   // Beyond the wrist and shoulder flips about zero (k <= 2, closed), only
-  // with `long_chains`, and each only where the half-turned joint's axis is
-  // perpendicular to the first mirrored one's, which the identities need.
+  // through a joint `through` marks (all without it), and each only where
+  // the half-turned joint's axis is perpendicular to the first mirrored
+  // one's, which the identities need.
+  const bool long_chains =
+      !through || std::find(through->begin(), through->end(), true) != through->end();
+  const auto addLong = [&](MinimumMove move) {
+    bool marked = !through;
+    for (const std::vector<int>* moved : {&move.flip, &move.half_turn})
+      for (int i : *moved) marked = marked || (*through)[guesses[i].column];
+    if (marked) moves.push_back(std::move(move));
+  };
   const size_t kMaxMirrored = long_chains ? 4 : 2;
   std::vector<int> mirrored;
   const std::function<void(int, int, bool)> below = [&](int up, int mid, bool perpendicular) {
@@ -310,12 +319,13 @@ std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector
       if (down[0] != mid) continue;
       end = false;
       if (turnable(down[1])) {
-        if (mirrored.size() <= 2 || perpendicular) moves.push_back({mirrored, {up, down[1]}, {}});
-        if (top) moves.push_back({mirrored, {up, mirrored[0], down[1]}, {}});
+        if (mirrored.size() <= 2) moves.push_back({mirrored, {up, down[1]}, {}});
+        else if (perpendicular) addLong({mirrored, {up, down[1]}, {}});
+        if (top) addLong({mirrored, {up, mirrored[0], down[1]}, {}});
       }
       if (mirrored.size() < kMaxMirrored) below(up, down[1], perpendicular);
     }
-    if (end && top) moves.push_back({mirrored, {up, mirrored[0]}, {}});
+    if (end && top) addLong({mirrored, {up, mirrored[0]}, {}});
     mirrored.pop_back();
   };
   const std::vector<Eigen::Vector3d> axes =

@@ -333,7 +333,8 @@ bool WideBasin::recheckSigns(Estimate* est) const {
   return flipped_any;
 }
 
-std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est, bool long_chains) const {
+std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
+    Estimate* est, const std::vector<int>& at_limits) const {
   QState sub;
   sub.q = subsampleAngles(est->state.q);
   const double base = refinedCost(est->theta, sub, PotSteps::kInverseCharts);
@@ -377,7 +378,9 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(Estimate* est, bool lo
       within_cost = cost, within = move;
     }
   };
-  std::vector<MinimumMove> moves = minimumMoves(model_.robot(), guesses_, moves_, long_chains);
+  std::vector<bool> through(model_.dof(), false);
+  for (int j : at_limits) through[j] = true;
+  std::vector<MinimumMove> moves = minimumMoves(robot, guesses_, moves_, &through);
   for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
   for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
   for (const MinimumMove& move : moves) consider(move);

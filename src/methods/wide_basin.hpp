@@ -146,13 +146,14 @@ struct MinimumMove {
 // and below them half a turn (the "wrist" and "shoulder flips" of a serial
 // chain: its links then pass through the same places, so markers on or
 // beyond them barely tell the two apart, or not at all); and both joints of
-// a pair half a turn. With `long_chains`, also the chain flips of 3-4
-// mirrored joints, those over the top and those to the chain's end
-// (pot_guesses.cpp), where the first mirrored joint's axis is perpendicular
-// to the half-turned one's. None that changes a held gain or bias.
+// a pair half a turn. Also the long chain flips: 3-4 mirrored joints,
+// those over the top and those to the chain's end (pot_guesses.cpp), where
+// the first mirrored joint's axis is perpendicular to the half-turned
+// one's; with `through`, only those that turn or mirror a joint (q column)
+// it marks. None that changes a held gain or bias.
 std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves,
-                                      bool long_chains = true);
+                                      const std::vector<bool>* through = nullptr);
 // Each guess on a revolute joint with limits, a whole turn: the same
 // kinematics and pot predictions, but a log's motion placed a turn off
 // runs into the limits. Offered where the limits span more than a turn (a
@@ -285,10 +286,14 @@ class WideBasin {
   // angles lie within them, and a motion placed a turn off that runs only a
   // little past a limit costs hardly more. est is a converged calibration
   // of obs.
-  // `long_chains`: minimumMoves' long chain flips too (a joint at or beyond
-  // its limits: their mirrors' mark; a misfit alone, from a log noisier
-  // than its seed σ says, would pay for them in every run).
-  std::optional<MinimumMove> jumpToBetterMinimum(Estimate* est, bool long_chains = true) const;
+  // minimumMoves' long chain flips only through the joints (q columns)
+  // `at_limits` names, those at or beyond their limits: a chain's mirror
+  // moves its own joints there. Not for a misfit alone (a log noisier than
+  // its seed σ says would pay for them in every run), nor through every
+  // joint where one is at its limits (humanoid38 from a free seed: the
+  // gauge joints at their limits, 257 moves and 70 s a round).
+  std::optional<MinimumMove> jumpToBetterMinimum(Estimate* est,
+                                                 const std::vector<int>& at_limits = {}) const;
   // The jumps of minimumMoves from est that keep every angle within the
   // q-phase's limits and fit the subsample as well as est (cost within
   // kSameFit), θ re-fitted in closed form at the moved angles: other
