@@ -12,6 +12,7 @@
 // row per robot and variant. STAC_BASIN_TRUTHS=N takes N truths instead of
 // 20 (a quicker look), STAC_BASIN_ONLY=robot/variant one row (or a comma
 // list of rows and whole robots: "go1,panda/partial"),
+// STAC_BASIN_THREADS=n calibrates on n threads (2);
 // STAC_BASIN_PICK=k truth k alone; STAC_BASIN_DIAG=1 calibrates each miss
 // again from its truth and prints both fits, per sensor (a wrong minimum
 // fits worse; a miss that fits as well is a std too small);
@@ -118,6 +119,7 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
     const Observations obs = bindLog(sim.data.log, robot.truth.sensors, "truth", 1.0);
     CalibrationOptions o;
     o.threads = 2;
+    if (const char* th = std::getenv("STAC_BASIN_THREADS")) o.threads = std::atoi(th);
     if (v == Variant::kOutliers) o.loss = outlierLoss();
     if (std::getenv("STAC_BASIN_NO_SCREEN")) o.screen_spikes = false;  // to measure the screen
     if (std::getenv("STAC_BASIN_TRACE"))  // each iteration's cost and RMS, to stderr

@@ -122,28 +122,34 @@ void widenedLimits(const RobotModel& robot, Eigen::VectorXd* lower, Eigen::Vecto
   }
 }
 
+namespace {
+// Whether each joint of each row of q lies within `margin` of its bounds
+// or beyond them (margin < 0: beyond them by more than -margin); a joint
+// whose bounds coincide, only beyond them by more than |margin|.
+Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> outside(const RowMatrix& q,
+                                                            const Eigen::VectorXd& lower,
+                                                            const Eigen::VectorXd& upper,
+                                                            double margin) {
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> out(q.rows(), q.cols());
+  for (int j = 0; j < q.cols(); ++j) {
+    const double m = upper[j] > lower[j] ? margin : -std::abs(margin);
+    for (int t = 0; t < q.rows(); ++t)
+      out(t, j) = q(t, j) <= lower[j] + m || q(t, j) >= upper[j] - m;
+  }
+  return out;
+}
+}  // namespace
+
 Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> atWidenedLimit(const RobotModel& robot,
                                                                    const RowMatrix& q) {
   Eigen::VectorXd lower, upper;
   widenedLimits(robot, &lower, &upper);
-  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> at(q.rows(), q.cols());
-  for (int t = 0; t < q.rows(); ++t)
-    for (int j = 0; j < q.cols(); ++j)
-      at(t, j) = upper[j] > lower[j] &&
-                 ((std::isfinite(lower[j]) && q(t, j) <= lower[j] + 1e-6) ||
-                  (std::isfinite(upper[j]) && q(t, j) >= upper[j] - 1e-6));
-  return at;
+  return outside(q, lower, upper, 1e-6);
 }
 
 Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> beyondLimits(const RobotModel& robot,
                                                                  const RowMatrix& q) {
-  const Eigen::VectorXd& lower = robot.lowerLimits();
-  const Eigen::VectorXd& upper = robot.upperLimits();
-  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> out(q.rows(), q.cols());
-  for (int t = 0; t < q.rows(); ++t)
-    for (int j = 0; j < q.cols(); ++j)
-      out(t, j) = q(t, j) < lower[j] - 1e-6 || q(t, j) > upper[j] + 1e-6;
-  return out;
+  return outside(q, robot.lowerLimits(), robot.upperLimits(), -1e-6);
 }
 
 namespace {
