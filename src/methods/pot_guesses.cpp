@@ -263,6 +263,14 @@ std::vector<Eigen::Vector3d> axesAtZero(const RobotModel& robot) {
 }
 }  // namespace
 
+bool turnsAny(const std::vector<PotGuess>& guesses, const MinimumMove& move,
+              const std::vector<bool>& joints) {
+  for (const std::vector<int>* moved : {&move.flip, &move.half_turn})
+    for (int i : *moved)
+      if (joints[guesses[i].column]) return true;
+  return false;
+}
+
 std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves,
                                       const std::vector<bool>* through) {
@@ -304,10 +312,7 @@ std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector
   const bool long_chains =
       !through || std::find(through->begin(), through->end(), true) != through->end();
   const auto addLong = [&](MinimumMove move) {
-    bool marked = !through;
-    for (const std::vector<int>* moved : {&move.flip, &move.half_turn})
-      for (int i : *moved) marked = marked || (*through)[guesses[i].column];
-    if (marked) moves.push_back(std::move(move));
+    if (!through || turnsAny(guesses, move, *through)) moves.push_back(std::move(move));
   };
   const size_t kMaxMirrored = long_chains ? 4 : 2;
   std::vector<int> mirrored;

@@ -36,6 +36,10 @@ constexpr double kSameFit = 1e-3;
 // jump and keeps its end only if it fits better, so a false jump costs
 // time, not accuracy).
 constexpr double kBetterMinimum = 1.0 - kSameFit;
+// A jump whose start, refined, fits within this factor of the converged
+// cost is a near miss: its exact form (jumpToBetterMinimum) is worth a try
+// even where no joint it moves is at its limits.
+constexpr double kNearMiss = 1.05;
 
 // Returns θ initialised from `theta` (the seed) on obs; state->q (one row per
 // frame of obs, neutral on entry) receives the initial joint angles.
@@ -154,6 +158,9 @@ struct MinimumMove {
 std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                       const std::vector<std::vector<int>>& sign_moves,
                                       const std::vector<bool>* through = nullptr);
+// Whether `move` mirrors or turns a joint (q column) that `joints` marks.
+bool turnsAny(const std::vector<PotGuess>& guesses, const MinimumMove& move,
+              const std::vector<bool>& joints);
 // Each guess on a revolute joint with limits, a whole turn: the same
 // kinematics and pot predictions, but a log's motion placed a turn off
 // runs into the limits. Offered where the limits span more than a turn (a
