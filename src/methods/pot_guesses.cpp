@@ -249,6 +249,14 @@ void wrapAngles(const PotGuess& g, RowMatrix* q) {
 }
 }  // namespace
 
+bool turnsAny(const std::vector<PotGuess>& guesses, const MinimumMove& move,
+              const std::vector<bool>& joints) {
+  for (const std::vector<int>* moved : {&move.flip, &move.half_turn})
+    for (int i : *moved)
+      if (joints[guesses[i].column]) return true;
+  return false;
+}
+
 namespace {
 // Each column's joint axis at the zero configuration (base frame). A joint
 // and its nearest moving ancestor, with no joint between them, keep the
@@ -261,54 +269,34 @@ std::vector<Eigen::Vector3d> axesAtZero(const RobotModel& robot) {
   for (int j = 0; j < robot.dof(); ++j) out.push_back(ws.joint_axis[robot.qJoints()[j]]);
   return out;
 }
-}  // namespace
 
-bool turnsAny(const std::vector<PotGuess>& guesses, const MinimumMove& move,
-              const std::vector<bool>& joints) {
-  for (const std::vector<int>* moved : {&move.flip, &move.half_turn})
-    for (int i : *moved)
-      if (joints[guesses[i].column]) return true;
-  return false;
-}
-
-std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
-                                      const std::vector<std::vector<int>>& sign_moves,
-                                      const std::vector<bool>* through) {
-  std::vector<MinimumMove> moves;
+// Chain flips: a joint half a turn and the k consecutive joints below it
+// mirrored (1 <= k <= kMaxMirrored), closed by the joint below them half
+// a turn or, where the mirrored ones end their chain, by nothing; the
+// first mirrored one either about zero (−q) or over the top (π − q:
+// R_a(π) R_b(π − q) = R_c(π) R_b(−q) for perpendicular axes a, b and
+// c = a × b, the links below then passing through the same places turned
+// half a turn about c). Their links pass through the same places, so the
+// markers on or beyond them tell the two configurations apart barely or
+// not at all. k = 1 closed is a serial chain's wrist flip; k = 2 closed
+// its shoulder flip (an elbow's parallel axes: a Kinova Jaco's q1 + π,
+// −q2, −q3, q4 + π about its limits' zeros; a random truth ended there,
+// 0.06% above the truth's cost, silent); unseen robots on partial swings
+// converged, flagged, in a Finger Edu's roll and two flexions over the
+// top (q1 + π, π − q2, −q3; 2 of 10 truths, the roll beyond its limit in
+// ~580 of 600 frames) and a Unitree Z1's yaw, three pitches and wrist
+// over the top, closed by its last roll (q1 + π, π − q2, −q3..−q5,
+// q6 + π; joint 1 beyond its limit in 341 of 600 frames), each found
+// back by these moves about the joints' zeros.
+// Beyond the wrist and shoulder flips about zero (k <= 2, closed), only
+// through a joint `through` marks (all without it), and each only where
+// the half-turned joint's axis is perpendicular to the first mirrored
+// one's, which the identities need.
+void addChainFlips(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                   const std::vector<std::vector<int>>& pairs, const std::vector<bool>* through,
+                   std::vector<MinimumMove>* out) {
+  std::vector<MinimumMove>& moves = *out;
   auto turnable = [&](int i) { return !guesses[i].bias_held; };
-  std::vector<std::vector<int>> pairs;  // {above, below}
-  for (const std::vector<int>& m : sign_moves) {
-    if (touchesFixed(guesses, m)) continue;
-    moves.push_back({m, {}, {}});
-    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m, {}});
-    if (m.size() == 2 && turnable(m[0])) {  // m[0] is above m[1]
-      moves.push_back({{m[1]}, {m[0]}, {}});
-      if (turnable(m[1])) moves.push_back({{}, m, {}});
-    }
-    if (m.size() == 2) pairs.push_back(m);
-  }
-  // Chain flips: a joint half a turn and the k consecutive joints below it
-  // mirrored (1 <= k <= kMaxMirrored), closed by the joint below them half
-  // a turn or, where the mirrored ones end their chain, by nothing; the
-  // first mirrored one either about zero (−q) or over the top (π − q:
-  // R_a(π) R_b(π − q) = R_c(π) R_b(−q) for perpendicular axes a, b and
-  // c = a × b, the links below then passing through the same places turned
-  // half a turn about c). Their links pass through the same places, so the
-  // markers on or beyond them tell the two configurations apart barely or
-  // not at all. k = 1 closed is a serial chain's wrist flip; k = 2 closed
-  // its shoulder flip (an elbow's parallel axes: a Kinova Jaco's q1 + π,
-  // −q2, −q3, q4 + π about its limits' zeros; a random truth ended there,
-  // 0.06% above the truth's cost, silent); unseen robots on partial swings
-  // converged, flagged, in a Finger Edu's roll and two flexions over the
-  // top (q1 + π, π − q2, −q3; 2 of 10 truths, the roll beyond its limit in
-  // ~580 of 600 frames) and a Unitree Z1's yaw, three pitches and wrist
-  // over the top, closed by its last roll (q1 + π, π − q2, −q3..−q5,
-  // q6 + π; joint 1 beyond its limit in 341 of 600 frames), each found
-  // back by these moves about the joints' zeros.
-  // Beyond the wrist and shoulder flips about zero (k <= 2, closed), only
-  // through a joint `through` marks (all without it), and each only where
-  // the half-turned joint's axis is perpendicular to the first mirrored
-  // one's, which the identities need.
   const bool long_chains =
       !through || std::find(through->begin(), through->end(), true) != through->end();
   const auto addLong = [&](MinimumMove move) {
@@ -341,6 +329,26 @@ std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector
   };
   for (const std::vector<int>& up : pairs)
     if (turnable(up[0])) below(up[0], up[1], perpendicularPair(up));
+}
+}  // namespace
+
+std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                                      const std::vector<std::vector<int>>& sign_moves,
+                                      const std::vector<bool>* through) {
+  std::vector<MinimumMove> moves;
+  auto turnable = [&](int i) { return !guesses[i].bias_held; };
+  std::vector<std::vector<int>> pairs;  // {above, below}
+  for (const std::vector<int>& m : sign_moves) {
+    if (touchesFixed(guesses, m)) continue;
+    moves.push_back({m, {}, {}});
+    if (m.size() == 1 && turnable(m[0])) moves.push_back({{}, m, {}});
+    if (m.size() == 2 && turnable(m[0])) {  // m[0] is above m[1]
+      moves.push_back({{m[1]}, {m[0]}, {}});
+      if (turnable(m[1])) moves.push_back({{}, m, {}});
+    }
+    if (m.size() == 2) pairs.push_back(m);
+  }
+  addChainFlips(robot, guesses, pairs, through, &moves);
   // Every joint mirrored at once, the mocap frame's closed form turning
   // with them: where every joint's axis is perpendicular to one direction,
   // a half turn of the whole robot about it reverses every axis (Finger
