@@ -31,17 +31,24 @@ struct Stage {
   std::vector<bool> in_fit;  // per marker
 };
 
-// Tree order: a joint after every joint above it (fewer supporting joints
-// first; q order among equals).
+// Tree order: a joint after every joint above it, depth first (each limb
+// to its end before the next; among siblings, in movable-joint order). The
+// beam's few fits are then spent on one limb's ambiguities at a time. In
+// breadth-first order (every hip, then every knee, ...) a quadruped's four
+// legs shared one beam: a hip's map, which its own markers cannot place
+// (a marker on its link turns with the offset), had its right start pruned
+// by the other legs' stages before its knee could tell (an unseen Solo 12
+// on partial swings: three legs' maps off; 6 of 10 basin truths reached,
+// 9 depth first, and ANYmal 6 -> 10).
 std::vector<int> treeOrder(const RobotModel& robot) {
-  auto depth = [&](int j) {
-    const int link = robot.movableJoints()[robot.qJoints()[j]].child_link;
-    return robot.supportingJoints(link).size();
+  // A joint's path from the root (movable joints, root first): sorted
+  // lexicographically, a prefix comes first, so this is a depth-first order.
+  auto path = [&](int j) -> const std::vector<int>& {
+    return robot.supportingJoints(robot.movableJoints()[robot.qJoints()[j]].child_link);
   };
   std::vector<int> order(robot.dof());
   for (int j = 0; j < robot.dof(); ++j) order[j] = j;
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return depth(a) < depth(b); });
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return path(a) < path(b); });
   return order;
 }
 

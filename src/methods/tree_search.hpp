@@ -7,7 +7,8 @@
 // search assumes nothing about where or how far a joint moves. It solves
 // the small θ-only problem of the classical regression (every joint angle
 // read off its pot's inverse map, regression.hpp) on a subsample, one stage
-// of the kinematic tree at a time, from the root outward:
+// of the kinematic tree at a time, from the root outward and limb by limb
+// (depth first: one limb to its end before the next):
 //  - a stage adds the next joint (and any joint above it that no marker
 //    has seen yet) and the markers that only these and earlier joints move;
 //    the markers further out are left out of the stage's fit;
