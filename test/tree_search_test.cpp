@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -69,6 +70,17 @@ TEST(TreeSearch, StartOffsetsCoverATurnOrTheRange) {
   for (double m : range) EXPECT_TRUE(m > lo && m < hi) << m;
 }
 
+TEST(TreeSearch, StartScalesOfOneTurnWhereTheLimitsSpanMore) {
+  const RobotModel robot = ur5();  // ±2π: a quarter of the guess over 4π is a half-turn's
+  const std::vector<double> wide = startScales(robot, 0);
+  ASSERT_EQ(wide.size(), 3u);
+  EXPECT_NEAR(wide[0], 0.5, 1e-9);
+  EXPECT_NEAR(wide[1], 0.25, 1e-9);
+  EXPECT_NEAR(wide[2], 0.125, 1e-9);
+  const RobotModel arm = RobotModel::fromString(test::kArmUrdf, "arm4");
+  EXPECT_EQ(startScales(arm, 0), (std::vector<double>{1.0, 0.5, 0.25}));
+}
+
 // The maps found invert the true pots (sign, scale, and offset modulo a
 // turn), where the guessed maps (swings about the middle) are far off.
 TEST(TreeSearch, FindsTheMapsOfOffCentrePartialSwings) {
@@ -104,6 +116,54 @@ TEST(TreeSearch, NotForAJointWithoutAPotOfItsOwn) {
   const Observations obs = bindLog(u.log, sensors, "sim", 1.0);
   const std::vector<PotGuess> guesses = makePotGuesses(u.robot, sensors, seed, obs, false);
   EXPECT_FALSE(treeOrderMaps(model, obs, RobustLoss(), guesses, seed, 2).has_value());
+}
+
+// The search's two orders. Depth first: each joint is followed at once by
+// every joint it moves (its limb below it), and comes after every joint
+// that moves it; on a hand, breadth first (every finger's base, then every
+// middle joint, ...) is another order.
+TEST(TreeSearch, OrdersAreDepthAndBreadthFirst) {
+  const RobotModel hand = RobotModel::fromFile(test::dataPath("hand24.urdf"));
+  const std::vector<int> order = treeOrder(hand, true);
+  ASSERT_EQ(static_cast<int>(order.size()), hand.dof());
+  auto moves = [&](int a, int c) {  // whether column a moves column c
+    const auto& path =
+        hand.supportingJoints(hand.movableJoints()[hand.qJoints()[c]].child_link);
+    return std::find(path.begin(), path.end(), hand.qJoints()[a]) != path.end();
+  };
+  int branching = 0;
+  for (int k = 0; k < hand.dof(); ++k) {
+    const int a = order[k];
+    int below = 0;
+    for (int c = 0; c < hand.dof(); ++c) below += c != a && moves(a, c);
+    for (int i = 0; i < hand.dof(); ++i) {
+      const int c = order[i];
+      if (c == a) continue;
+      if (i < k) EXPECT_FALSE(moves(a, c)) << hand.qName(a) << " before " << hand.qName(c);
+      if (i > k) EXPECT_FALSE(moves(c, a)) << hand.qName(c) << " after " << hand.qName(a);
+      if (i > k && i <= k + below)
+        EXPECT_TRUE(moves(a, c)) << hand.qName(a) << "'s limb broken by " << hand.qName(c);
+    }
+    int children = 0;
+    for (int c = 0; c < hand.dof(); ++c)
+      if (c != a && moves(a, c)) {
+        bool direct = true;
+        for (int m = 0; m < hand.dof(); ++m)
+          if (m != a && m != c && moves(a, m) && moves(m, c)) direct = false;
+        children += direct;
+      }
+    branching += children > 1;
+  }
+  EXPECT_GT(branching, 0);  // the hand branches: breadth first differs
+  // Breadth first: by the number of joints above, every joint after those
+  // that move it.
+  const std::vector<int> breadth = treeOrder(hand, false);
+  ASSERT_EQ(breadth.size(), order.size());
+  EXPECT_NE(breadth, order);
+  auto depth = [&](int c) {
+    return hand.supportingJoints(hand.movableJoints()[hand.qJoints()[c]].child_link).size();
+  };
+  for (int k = 1; k < hand.dof(); ++k) EXPECT_LE(depth(breadth[k - 1]), depth(breadth[k]));
 }
 
 // ---- Turns ----

@@ -17,7 +17,8 @@ namespace {
 constexpr double kLeftOut = 1e6;
 // Fits kept from one stage to the next.
 constexpr int kBeam = 3;
-// Coverage scales of a start: the guess's (80% of the range), half, a quarter.
+// Coverage scales of a start: the guess's (80% of the range), half, a
+// quarter (startScales).
 constexpr double kStartScales[] = {1.0, 0.5, 0.25};
 // Levenberg-Marquardt iterations of one start: a start in the right basin
 // is close after a few; the rest only need to be told apart.
@@ -31,31 +32,11 @@ struct Stage {
   std::vector<bool> in_fit;  // per marker
 };
 
-// Tree order: a joint after every joint above it, depth first (each limb
-// to its end before the next; among siblings, in movable-joint order). The
-// beam's few fits are then spent on one limb's ambiguities at a time. In
-// breadth-first order (every hip, then every knee, ...) a quadruped's four
-// legs shared one beam: a hip's map, which its own markers cannot place
-// (a marker on its link turns with the offset), had its right start pruned
-// by the other legs' stages before its knee could tell (an unseen Solo 12
-// on partial swings: three legs' maps off; 6 of 10 basin truths reached,
-// 9 depth first, and ANYmal 6 -> 10).
-std::vector<int> treeOrder(const RobotModel& robot) {
-  // A joint's path from the root (movable joints, root first): sorted
-  // lexicographically, a prefix comes first, so this is a depth-first order.
-  auto path = [&](int j) -> const std::vector<int>& {
-    return robot.supportingJoints(robot.movableJoints()[robot.qJoints()[j]].child_link);
-  };
-  std::vector<int> order(robot.dof());
-  for (int j = 0; j < robot.dof(); ++j) order[j] = j;
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return path(a) < path(b); });
-  return order;
-}
-
 // The stages, from the root outward: a joint joins the first stage in
 // whose fit some marker it moves appears. Joints below which no marker is
 // ever seen join none (their guesses stand).
-std::vector<Stage> planStages(const MeasurementModel& model, const std::vector<int>& guess_of) {
+std::vector<Stage> planStages(const MeasurementModel& model, const std::vector<int>& guess_of,
+                              const std::vector<int>& order) {
   const int M = static_cast<int>(model.sensors().markers.size());
   std::vector<bool> processed(model.dof(), false), in_fit(M, false);
   auto seen = [&](int m) {
@@ -66,7 +47,7 @@ std::vector<Stage> planStages(const MeasurementModel& model, const std::vector<i
   for (int m = 0; m < M; ++m) in_fit[m] = seen(m);
   std::vector<Stage> stages;
   std::vector<int> pending;
-  for (int j : treeOrder(model.robot())) {
+  for (int j : order) {
     processed[j] = true;
     pending.push_back(guess_of[j]);
     bool new_marker = false;
@@ -115,8 +96,7 @@ std::vector<PotMap> startMaps(const RobotModel& robot, const PotGuess& g) {
   const std::vector<double> signs = g.fixed ? std::vector<double>{1.0}
                                             : std::vector<double>{1.0, -1.0};
   const std::vector<double> scales = g.fixed ? std::vector<double>{1.0}
-                                             : std::vector<double>(std::begin(kStartScales),
-                                                                   std::end(kStartScales));
+                                             : startScales(robot, g.column);
   const std::vector<double> mids = g.bias_held ? std::vector<double>{g.map.mid}
                                                : startOffsets(robot, g.column);
   std::vector<PotMap> out;
@@ -220,7 +200,89 @@ std::vector<Fit> bestDistinct(std::vector<Fit> fits, const std::vector<PotGuess>
   return kept;
 }
 
+// The search through `stages`: the best fit of the last stage's beam, or
+// none where a stage kept no finite fit.
+std::optional<Fit> searchInOrder(const MeasurementModel& model, const Observations& frames,
+                                 const RobustLoss& loss, const std::vector<PotGuess>& guesses,
+                                 const SensorParameters& seed, int threads,
+                                 const JointSources& sources, const std::vector<Stage>& stages) {
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  Fit first;
+  first.p.theta = seed;
+  first.p.theta.joint_origin.clear();
+  first.p.inverse.resize(sensors.joint_sensors.size());
+  for (const PotGuess& g : guesses) first.p.inverse[g.sensor] = toInverse(g, g.map);
+  std::vector<Fit> beam = {first};
+  std::vector<bool> done(guesses.size(), false), searched(sensors.joint_sensors.size(), false);
+  for (const Stage& stage : stages) {
+    for (int i : stage.guesses) done[i] = true, searched[guesses[i].sensor] = true;
+    StageFit fit(robot, sources, stageSensors(sensors, sources, stage.in_fit, searched), frames,
+                 loss, threads);
+    // Each of the stage's guesses in turn (one, unless joints above it saw
+    // no marker of their own), every start from every fit of the beam.
+    for (int i : stage.guesses) {
+      std::vector<Fit> fits;
+      for (const Fit& from : beam)
+        for (const PotMap& start : startMaps(robot, guesses[i])) {
+          ClassicalParameters p = from.p;
+          p.inverse[guesses[i].sensor] = toInverse(guesses[i], start);
+          fits.push_back(fit.refine(std::move(p)));
+        }
+      std::vector<Fit> kept = bestDistinct(std::move(fits), guesses, done);
+      if (kept.empty()) return std::nullopt;
+      beam = std::move(kept);
+    }
+  }
+  return std::move(beam.front());
+}
+
 }  // namespace
+
+// Depth first (each limb to its end before the next; among siblings, in
+// movable-joint order), the beam's few fits are spent on one limb's
+// ambiguities at a time: breadth first (every hip, then every knee, ...),
+// a quadruped's four legs shared one beam, and a hip's right map, which its
+// own markers cannot place (a marker on its link turns with the offset),
+// was pruned by the other legs' stages before its knee could tell (an
+// unseen Solo 12 on partial swings: three legs' maps off; 6 of 10 basin
+// truths reached breadth first, 9 depth first; ANYmal 6 -> 10). Breadth
+// first settles a hand's finger bases together against the palm first:
+// depth first, hand24's partial-swing basin truth 7 ended with a finger's
+// abduction beyond its limits, breadth first at the truth.
+std::vector<int> treeOrder(const RobotModel& robot, bool depth_first) {
+  // A joint's path from the root (movable joints, root first): sorted
+  // lexicographically, a prefix comes first (depth first); by length,
+  // breadth first.
+  auto path = [&](int j) -> const std::vector<int>& {
+    return robot.supportingJoints(robot.movableJoints()[robot.qJoints()[j]].child_link);
+  };
+  std::vector<int> order(robot.dof());
+  for (int j = 0; j < robot.dof(); ++j) order[j] = j;
+  if (depth_first)
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return path(a) < path(b); });
+  else
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return path(a).size() < path(b).size(); });
+  return order;
+}
+
+// kStartScales of the guess, and where the limits span more than a turn,
+// of a guess over one turn about their middle. Such limits say nothing about how far a joint moves
+// (the markers see it modulo a turn): with starts at 80% of Solo 12's
+// ±10 rad and a quarter of it, every start swept a knee 2.5 times as far
+// as the truth's partial swing did, and the fit stayed there (an unseen
+// Solo's basin truth 5: a calf marker at 7x its σ). A log that does sweep
+// more than a turn is the wide basin's sweeps' (they start from 80% of the
+// limits, and this search replaces them only where they misfit).
+std::vector<double> startScales(const RobotModel& robot, int j) {
+  std::vector<double> out(std::begin(kStartScales), std::end(kStartScales));
+  const double width = robot.upperLimits()[j] - robot.lowerLimits()[j];
+  const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type != JointType::kPrismatic;
+  if (revolute && std::isfinite(width) && width > 2 * M_PI * (1 + 1e-9))
+    for (double& s : out) s *= 2 * M_PI / width;
+  return out;
+}
 
 std::vector<double> startOffsets(const RobotModel& robot, int j) {
   const double lo = robot.lowerLimits()[j], hi = robot.upperLimits()[j];
@@ -256,34 +318,21 @@ std::optional<Candidate> treeOrderMaps(const MeasurementModel& model, const Obse
   const Observations frames = usableSubsample(sub, sources);
   if (frames.num_frames < kMinFrames) return std::nullopt;
 
-  Fit first;
-  first.p.theta = seed;
-  first.p.theta.joint_origin.clear();
-  first.p.inverse.resize(sensors.joint_sensors.size());
-  for (const PotGuess& g : guesses) first.p.inverse[g.sensor] = toInverse(g, g.map);
-  std::vector<Fit> beam = {first};
-  std::vector<bool> done(guesses.size(), false), searched(sensors.joint_sensors.size(), false);
-  for (const Stage& stage : planStages(model, guess_of)) {
-    for (int i : stage.guesses) done[i] = true, searched[guesses[i].sensor] = true;
-    StageFit fit(robot, sources, stageSensors(sensors, sources, stage.in_fit, searched), frames,
-                 loss, threads);
-    // Each of the stage's guesses in turn (one, unless joints above it saw
-    // no marker of their own), every start from every fit of the beam.
-    for (int i : stage.guesses) {
-      std::vector<Fit> fits;
-      for (const Fit& from : beam)
-        for (const PotMap& start : startMaps(robot, guesses[i])) {
-          ClassicalParameters p = from.p;
-          p.inverse[guesses[i].sensor] = toInverse(guesses[i], start);
-          fits.push_back(fit.refine(std::move(p)));
-        }
-      std::vector<Fit> kept = bestDistinct(std::move(fits), guesses, done);
-      if (kept.empty()) return std::nullopt;
-      beam = std::move(kept);
-    }
-  }
+  // Neither order is best everywhere (treeOrder): where they differ, both
+  // are searched and the better final fit kept (the same frames, markers
+  // and pots in the last stage's fit: comparable costs).
+  const std::vector<int> depth_first = treeOrder(robot, true);
+  const std::vector<int> breadth_first = treeOrder(robot, false);
+  std::optional<Fit> best = searchInOrder(model, frames, loss, guesses, seed, threads, sources,
+                                          planStages(model, guess_of, depth_first));
+  if (breadth_first != depth_first)
+    if (std::optional<Fit> other = searchInOrder(model, frames, loss, guesses, seed, threads,
+                                                 sources,
+                                                 planStages(model, guess_of, breadth_first)))
+      if (!best || other->cost < best->cost) best = std::move(other);
+  if (!best) return std::nullopt;
   Candidate out;
-  for (const PotGuess& g : guesses) out.maps.push_back(toPotMap(g, beam.front().p.inverse[g.sensor]));
+  for (const PotGuess& g : guesses) out.maps.push_back(toPotMap(g, best->p.inverse[g.sensor]));
   return out;
 }
 

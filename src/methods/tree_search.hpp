@@ -7,8 +7,9 @@
 // search assumes nothing about where or how far a joint moves. It solves
 // the small θ-only problem of the classical regression (every joint angle
 // read off its pot's inverse map, regression.hpp) on a subsample, one stage
-// of the kinematic tree at a time, from the root outward and limb by limb
-// (depth first: one limb to its end before the next):
+// of the kinematic tree at a time, from the root outward (in two orders,
+// depth first and breadth first, where they differ; the better final fit
+// is kept):
 //  - a stage adds the next joint (and any joint above it that no marker
 //    has seen yet) and the markers that only these and earlier joints move;
 //    the markers further out are left out of the stage's fit;
@@ -38,6 +39,16 @@ std::optional<Candidate> treeOrderMaps(const MeasurementModel& model, const Obse
                                        const RobustLoss& loss,
                                        const std::vector<PotGuess>& guesses,
                                        const SensorParameters& seed, int threads);
+
+// The q columns in a search order: each after every joint above it, depth
+// first (one limb to its end before the next) or breadth first (by the
+// number of joints above).
+std::vector<int> treeOrder(const RobotModel& robot, bool depth_first);
+
+// The coverage scales a map's start tries for q column j, as factors of
+// its guess (80% of the range): 1, 1/2, 1/4, of one turn where the limits
+// span more than a turn.
+std::vector<double> startScales(const RobotModel& robot, int j);
 
 // The offsets a map's start tries for q column j: eight, spread over one
 // turn about the middle of the joint's range where the range spans a turn
