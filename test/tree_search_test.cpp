@@ -70,17 +70,6 @@ TEST(TreeSearch, StartOffsetsCoverATurnOrTheRange) {
   for (double m : range) EXPECT_TRUE(m > lo && m < hi) << m;
 }
 
-TEST(TreeSearch, StartScalesOfOneTurnWhereTheLimitsSpanMore) {
-  const RobotModel robot = ur5();  // ±2π: a quarter of the guess over 4π is a half-turn's
-  const std::vector<double> wide = startScales(robot, 0);
-  ASSERT_EQ(wide.size(), 3u);
-  EXPECT_NEAR(wide[0], 0.5, 1e-9);
-  EXPECT_NEAR(wide[1], 0.25, 1e-9);
-  EXPECT_NEAR(wide[2], 0.125, 1e-9);
-  const RobotModel arm = RobotModel::fromString(test::kArmUrdf, "arm4");
-  EXPECT_EQ(startScales(arm, 0), (std::vector<double>{1.0, 0.5, 0.25}));
-}
-
 // The maps found invert the true pots (sign, scale, and offset modulo a
 // turn), where the guessed maps (swings about the middle) are far off.
 TEST(TreeSearch, FindsTheMapsOfOffCentrePartialSwings) {

@@ -18,7 +18,11 @@ constexpr double kLeftOut = 1e6;
 // Fits kept from one stage to the next.
 constexpr int kBeam = 3;
 // Coverage scales of a start: the guess's (80% of the range), half, a
-// quarter (startScales).
+// quarter. (Where the limits span more than a turn, starts of a one-turn
+// guess instead or as well were tried: an unseen Solo 12's basin truth 5,
+// its knee's every start swept 2.5x too far, was then reached, but ur5
+// basin truths that had been reached went to wrong minima, plain log truth
+// 17 with the one-turn scales alone, partial-swing truth 4 with both.)
 constexpr double kStartScales[] = {1.0, 0.5, 0.25};
 // Levenberg-Marquardt iterations of one start: a start in the right basin
 // is close after a few; the rest only need to be told apart.
@@ -96,7 +100,8 @@ std::vector<PotMap> startMaps(const RobotModel& robot, const PotGuess& g) {
   const std::vector<double> signs = g.fixed ? std::vector<double>{1.0}
                                             : std::vector<double>{1.0, -1.0};
   const std::vector<double> scales = g.fixed ? std::vector<double>{1.0}
-                                             : startScales(robot, g.column);
+                                             : std::vector<double>(std::begin(kStartScales),
+                                                                   std::end(kStartScales));
   const std::vector<double> mids = g.bias_held ? std::vector<double>{g.map.mid}
                                                : startOffsets(robot, g.column);
   std::vector<PotMap> out;
@@ -265,23 +270,6 @@ std::vector<int> treeOrder(const RobotModel& robot, bool depth_first) {
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return path(a).size() < path(b).size(); });
   return order;
-}
-
-// kStartScales of the guess, and where the limits span more than a turn,
-// of a guess over one turn about their middle. Such limits say nothing about how far a joint moves
-// (the markers see it modulo a turn): with starts at 80% of Solo 12's
-// ±10 rad and a quarter of it, every start swept a knee 2.5 times as far
-// as the truth's partial swing did, and the fit stayed there (an unseen
-// Solo's basin truth 5: a calf marker at 7x its σ). A log that does sweep
-// more than a turn is the wide basin's sweeps' (they start from 80% of the
-// limits, and this search replaces them only where they misfit).
-std::vector<double> startScales(const RobotModel& robot, int j) {
-  std::vector<double> out(std::begin(kStartScales), std::end(kStartScales));
-  const double width = robot.upperLimits()[j] - robot.lowerLimits()[j];
-  const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type != JointType::kPrismatic;
-  if (revolute && std::isfinite(width) && width > 2 * M_PI * (1 + 1e-9))
-    for (double& s : out) s *= 2 * M_PI / width;
-  return out;
 }
 
 std::vector<double> startOffsets(const RobotModel& robot, int j) {

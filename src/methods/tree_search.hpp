@@ -45,11 +45,6 @@ std::optional<Candidate> treeOrderMaps(const MeasurementModel& model, const Obse
 // number of joints above).
 std::vector<int> treeOrder(const RobotModel& robot, bool depth_first);
 
-// The coverage scales a map's start tries for q column j, as factors of
-// its guess (80% of the range): 1, 1/2, 1/4, of one turn where the limits
-// span more than a turn.
-std::vector<double> startScales(const RobotModel& robot, int j);
-
 // The offsets a map's start tries for q column j: eight, spread over one
 // turn about the middle of the joint's range where the range spans a turn
 // or more (or the joint has no limits), else over the range.
