@@ -11,7 +11,8 @@ constexpr double kDominatedShare = 0.5;
 }  // namespace
 
 PotCharts::PotCharts(const ThetaSpace& space, const SensorParameters& theta,
-                     const Eigen::MatrixXd& S, const Eigen::VectorXd& D)
+                     const Eigen::MatrixXd& S, const Eigen::VectorXd& D,
+                     const std::vector<double>& pivots)
     : space_(&space) {
   const std::vector<int>& free_of = space.freePosition();
   for (size_t j = 0; j < theta.joint_sensor.size(); ++j) {
@@ -24,8 +25,10 @@ PotCharts::PotCharts(const ThetaSpace& space, const SensorParameters& theta,
     if (p.gain < 0 || !(std::abs(g) > 0) || !std::isfinite(g)) continue;
     // h = 1 - S_gg / D_gg: the share of the gain's curvature the q_t take.
     if (!(D[p.gain] > 0) || !(S(p.gain, p.gain) < (1 - kDominatedShare) * D[p.gain])) continue;
-    // g = 1/α, b = -β/α: dg = -g² dα, db = -b g dα - g dβ.
-    p.T << -g * g, 0.0, -b * g, -g;
+    // g = 1/α, b = p̄ - β/α with β = (p̄ - b)/g: dg = -g² dα,
+    // db = g (p̄ - b) dα - g dβ.
+    p.pivot = pivots[j];
+    p.T << -g * g, 0.0, g * (p.pivot - b), -g;
     pots_.push_back(p);
   }
 }
@@ -76,12 +79,25 @@ SensorParameters PotCharts::retract(const SensorParameters& theta,
   for (const Pot& p : pots_) {
     const GainBias& was = theta.joint_sensor[p.sensor];
     const double alpha = 1.0 / was.gain + chart_step[p.gain];
-    const double beta = -was.bias / was.gain + (p.bias < 0 ? 0.0 : chart_step[p.bias]);
+    const double beta =
+        (p.pivot - was.bias) / was.gain + (p.bias < 0 ? 0.0 : chart_step[p.bias]);
     // α = 0 exactly is the joint held still, g = ∞: keep the linear step.
     if (!(std::abs(alpha) > 0) || !std::isfinite(1.0 / alpha)) continue;
     GainBias& gb = out.joint_sensor[p.sensor];
     gb.gain = 1.0 / alpha;
-    if (p.bias >= 0) gb.bias = -beta / alpha;
+    if (p.bias >= 0) gb.bias = p.pivot - beta / alpha;
+  }
+  return out;
+}
+
+std::vector<double> potPivots(const Observations& obs) {
+  std::vector<double> out(static_cast<size_t>(obs.joint.cols()), 0.0);
+  for (Eigen::Index j = 0; j < obs.joint.cols(); ++j) {
+    double sum = 0;
+    int n = 0;
+    for (Eigen::Index t = 0; t < obs.joint.rows(); ++t)
+      if (std::isfinite(obs.joint(t, j))) sum += obs.joint(t, j), ++n;
+    if (n > 0) out[j] = sum / n;
   }
   return out;
 }

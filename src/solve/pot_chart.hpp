@@ -22,11 +22,19 @@
 // small, in (α, β) while it is large. So each free gain takes the inverse
 // chart where h > 1/2, read off the reduced system as the share of the
 // gain's curvature that eliminating the q_t removes.
+//
+// The chart turns each map about its pot's mean reading p̄: q = α (p - p̄) + β
+// (β the angle at p̄). About p = 0 instead, a pot logged in encoder ticks
+// about an offset (2048 ± 650 a radian) couples α and β almost
+// collinearly: the damped steps then crawled (humanoid38, 3000 frames, its
+// pots in ticks: 81 iterations against 4 in radians for the same answer).
+// Through α = 0 the motion then mirrors about its own middle.
 #pragma once
 
 #include <Eigen/Core>
 #include <vector>
 
+#include "stac/log.hpp"
 #include "stac/theta_space.hpp"
 
 namespace stac {
@@ -36,9 +44,10 @@ class PotCharts {
  public:
   // From the reduced curvature S and the un-reduced diagonal D (both over
   // the free entries) at θ: the joint sensors whose free gain keeps less
-  // than half of its curvature once the q_t are eliminated (S_gg < D_gg / 2).
+  // than half of its curvature once the q_t are eliminated (S_gg < D_gg / 2),
+  // each turned about pivots[j] (potPivots).
   PotCharts(const ThetaSpace& space, const SensorParameters& theta, const Eigen::MatrixXd& S,
-            const Eigen::VectorXd& D);
+            const Eigen::VectorXd& D, const std::vector<double>& pivots);
   // None: every entry in θ's own coordinates.
   explicit PotCharts(const ThetaSpace& space) : space_(&space) {}
 
@@ -61,9 +70,14 @@ class PotCharts {
     int sensor = -1;           // joint sensor index
     int gain = -1, bias = -1;  // free positions (bias -1: held)
     Eigen::Matrix2d T;         // d(g, b) / d(α, β) at θ
+    double pivot = 0;          // p̄
   };
   const ThetaSpace* space_;
   std::vector<Pot> pots_;
 };
+
+// Each joint sensor's mean reading over obs (0 where it has none): the
+// readings its chart turns about.
+std::vector<double> potPivots(const Observations& obs);
 
 }  // namespace stac

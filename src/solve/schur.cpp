@@ -317,6 +317,8 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     for (size_t i = 0; i < sample.size(); ++i) sample_q.row(i) = state->q.row(sample[i]);
   }
   const double scale = static_cast<double>(T) / static_cast<double>(sample.size());
+  const std::vector<double> pivots =
+      options.inverse_charts ? potPivots(obs) : std::vector<double>();
   double old_cost = -1;
   for (int attempt = 0; attempt < 6; ++attempt) {
     // Every attempt starts from the same (θ, q): the visitor sees it once.
@@ -338,7 +340,7 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     if (old_cost < 0) old_cost = rs.cost;
     // Pots that dominate their joint move in their inverse chart
     // (pot_chart.hpp), damped there.
-    const PotCharts charts = D ? PotCharts(space, *theta, rs.S, *D) : PotCharts(space);
+    const PotCharts charts = D ? PotCharts(space, *theta, rs.S, *D, pivots) : PotCharts(space);
     charts.toChart(&rs.S, &rs.g);
     Eigen::MatrixXd A = rs.S;
     addDamping(*lambda, rs.S, &A);
