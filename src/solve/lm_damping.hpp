@@ -2,10 +2,17 @@
 // trust_region_strategy): every solver of STAC — the per-frame q-phase, the
 // coupled (q, θ) steps, the classical regression — damps its normal
 // equations H the same way and moves λ by the same rule:
-//   (H + λ diag(H) + ε I) δ = -g,   ε = 1e-12 max(1, max diag H)
-// diag(H) keeps the step invariant to each parameter's unit; ε keeps a
-// parameter that no reading sees at its value. λ falls after an accepted
-// step and rises after a rejected one, within bounds.
+//   (H + λ diag(H) + E) δ = -g,   E = diag(e_i),   ε = 1e-12 max(1, max diag H),
+//   e_i = 1e-12 H_ii where H_ii > 1e-12 ε, else ε
+// diag(H) keeps the step invariant to each parameter's unit, and so does
+// the ridge E where a reading sees the parameter; ε keeps a parameter that
+// no reading sees, or only rounding does (its curvature 24 orders below the
+// largest), at its value. (ε on every entry damped a parameter of small
+// curvature in its own unit far more than the rest: humanoid38, 3000
+// frames, its pots logged in encoder ticks, the gains' curvature 12 orders
+// below the inverse charts' largest, took 11 iterations against 4 in
+// radians for the same answer.) λ falls after an accepted step and rises
+// after a rejected one, within bounds.
 //
 // The three users differ only in how boldly λ moves (LmSchedule): a frame's
 // 1..38 joint angles are cheap to retry, a coupled step over every frame is
@@ -36,18 +43,22 @@ inline double rejectedStep(const LmSchedule& s, double lambda) {
   return std::min(lambda * s.grow, s.max);
 }
 
-// The ridge ε added to every diagonal entry of a system whose diagonal is
-// `diagonal`.
+// The ridge ε of a system whose diagonal is `diagonal`.
 inline double ridge(const Eigen::Ref<const Eigen::VectorXd>& diagonal) {
   return 1e-12 * std::max(1.0, diagonal.size() ? diagonal.maxCoeff() : 0.0);
 }
 
-// A += λ diag(D) + ε I, ε = ridge(D); A and D square and of one size
-// (usually A = H = D, or A a copy of H).
+// The ridge of an entry whose diagonal is d (ε = ridge of the system):
+// relative where a reading sees it.
+inline double ridgeOf(double d, double eps) { return d > 1e-12 * eps ? 1e-12 * d : eps; }
+
+// A += λ diag(D) + E (above); A and D square and of one size (usually
+// A = H = D, or A a copy of H).
 template <typename MatrixA, typename MatrixD>
 void addDamping(double lambda, const MatrixD& D, MatrixA* A) {
   const double eps = 1e-12 * std::max(1.0, D.diagonal().maxCoeff());
-  for (Eigen::Index i = 0; i < A->rows(); ++i) (*A)(i, i) += lambda * D(i, i) + eps;
+  for (Eigen::Index i = 0; i < A->rows(); ++i)
+    (*A)(i, i) += lambda * D(i, i) + ridgeOf(D(i, i), eps);
 }
 
 }  // namespace stac
