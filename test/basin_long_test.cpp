@@ -25,7 +25,8 @@
 // STAC_BASIN_MAX_DOF=n (robots up to n joints instead of 12).
 // STAC_BASIN_NOISE_SEED=n draws the motion and noise anew for the same
 // truths; STAC_BASIN_Z=text prints the z of every parameter whose name
-// holds it, reached or not (is a std honest?).
+// holds it, reached or not (is a std honest?); STAC_BASIN_TICKS=K logs
+// every joint sensor in encoder ticks (K a radian, about 2048).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -99,10 +100,32 @@ bool selected(const std::string& robot, const std::string& variant) {
          list.find("," + robot + "/" + variant + ",") != std::string::npos;
 }
 
+// STAC_BASIN_TICKS=K: every joint sensor logs encoder ticks, K of them a
+// radian (a prismatic joint's per its stroke) about an offset of 2048, its
+// σ K times: the same problems in another unit, which must give the same
+// answers (0: radians, the default).
+double ticksPerRadian() {
+  const char* env = std::getenv("STAC_BASIN_TICKS");
+  return env ? std::atof(env) : 0.0;
+}
+
+Robot inTicks(Robot robot, double ticks) {
+  if (ticks > 0)
+    for (JointSensorConfig& js : robot.truth.sensors.joint_sensors) js.sigma *= ticks;
+  return robot;
+}
+
+void truthInTicks(double ticks, SensorParameters* truth) {
+  if (ticks > 0)
+    for (GainBias& gb : truth->joint_sensor) gb = {ticks * gb.gain, ticks * gb.bias + 2048};
+}
+
 // One robot, one variant: kTruths random truths from the paper's seeding.
 // Counts the truths reached, and the misses the verdict flags (exit 4) or
 // not (a silent wrong answer).
-Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
+Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
+  const double ticks = ticksPerRadian();
+  const Robot robot = inTicks(robot_in, ticks);
   Tally tally;
   if (!selected(robot.name, variantName(v))) return tally;
   const MeasurementModel model(robot.model, robot.truth.sensors);
@@ -113,7 +136,8 @@ Tally runVariant(const Robot& robot, Variant v, int truths, int frames) {
   const char* noise_env = std::getenv("STAC_BASIN_NOISE_SEED");
   const int noise_seed = noise_env ? 7919 * std::atoi(noise_env) : 0;
   for (int k = 0; k < truths; ++k) {
-    const SensorParameters truth = randomTruth(robot.model, robot.truth.sensors, robot.truth.theta, rng);
+    SensorParameters truth = randomTruth(robot.model, robot.truth.sensors, robot.truth.theta, rng);
+    truthInTicks(ticks, &truth);
     if (pick && std::atoi(pick) != k) continue;
     const Simulation sim = simulateVariant(robot, model, truth, v, frames, 1000 + k + noise_seed);
     const Observations obs = bindLog(sim.data.log, robot.truth.sensors, "truth", 1.0);
