@@ -14,10 +14,10 @@ namespace {
 constexpr double kTicks = 652;     // a radian (~4096 a turn)
 constexpr double kOffset = 2048;   // the reading at zero
 
-// The bundled hand (24 pots, 8 tendons, 600 frames of smooth motion) with
+// The bundled hand (24 pots, 8 tendons, 300 frames of smooth motion) with
 // its pots in radians or in ticks: σ, truth gains and biases converted.
 struct Hand {
-  test::Robot robot = test::bundledRobot("hand24", 600);
+  test::Robot robot = test::bundledRobot("hand24", 300);
   CalibrationResult result;
   explicit Hand(bool ticks) {
     SensorParameters truth = robot.truth.theta;
@@ -38,7 +38,7 @@ struct Hand {
 
 // Before the pots' inverse chart turned about the mean reading and the LM
 // ridge became relative to each parameter's curvature, the hand in ticks
-// ran 200 iterations, "not converged", against 7 in radians (checked).
+// ran 200 iterations, "not converged" (checked).
 TEST(ReadingUnits, AHandLoggedInEncoderTicksCalibratesAsInRadians) {
   const Hand radians(false), ticks(true);
   ASSERT_TRUE(radians.result.summary.converged);
