@@ -1,4 +1,4 @@
-// The one Levenberg-Marquardt damping policy (solve/lm_damping.hpp): a
+// The coupled steps' damping (solve/lm_damping.hpp, addScaleFreeDamping): a
 // damped step does not depend on the unit of a parameter that readings see,
 // however small its curvature against the system's largest, and a
 // parameter that no reading sees (or only rounding does) stays put.
@@ -14,7 +14,7 @@ namespace {
 
 Eigen::VectorXd dampedStep(double lambda, const Eigen::MatrixXd& H, const Eigen::VectorXd& g) {
   Eigen::MatrixXd A = H;
-  addDamping(lambda, H, &A);
+  addScaleFreeDamping(lambda, H, &A);
   return A.ldlt().solve(-g);
 }
 

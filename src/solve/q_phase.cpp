@@ -197,8 +197,8 @@ struct FrameSolver {
     return evaluateFrame(model, theta, noise, loss, fr, q, jac ? with_jac : no_jac, ws);
   }
 
-  // Solves (H + λ D + E) step = -g (lm_damping.hpp): D = diag(H) keeps LM
-  // scale-invariant, E keeps joints that no reading sees at their value.
+  // Solves (H + λ D + ε I) step = -g; D = diag(H) keeps LM scale-invariant,
+  // ε keeps joints that no reading sees at their current value.
   void solveDamped(double lambda) {
     if (!options.frozen.empty()) {
       const double eps = ridge(H.diagonal());
@@ -206,8 +206,7 @@ struct FrameSolver {
       const int k = static_cast<int>(free_cols.size());
       for (int a = 0; a < k; ++a) {
         for (int b = 0; b < k; ++b) A_free(a, b) = H(free_cols[a], free_cols[b]);
-        const double d = H(free_cols[a], free_cols[a]);
-        A_free(a, a) += lambda * d + ridgeOf(d, eps);
+        A_free(a, a) += lambda * H(free_cols[a], free_cols[a]) + eps;
         step_free[a] = -g[free_cols[a]];
       }
       Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A_free);  // in place: no allocation

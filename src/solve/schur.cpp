@@ -343,7 +343,7 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     const PotCharts charts = D ? PotCharts(space, *theta, rs.S, *D, pivots) : PotCharts(space);
     charts.toChart(&rs.S, &rs.g);
     Eigen::MatrixXd A = rs.S;
-    addDamping(*lambda, rs.S, &A);
+    addScaleFreeDamping(*lambda, rs.S, &A);
     const Eigen::VectorXd dchart = nf > 0 ? Eigen::VectorXd(A.ldlt().solve(-rs.g))
                                           : Eigen::VectorXd();
     if (!dchart.allFinite()) return old_cost;
