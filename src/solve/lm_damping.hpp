@@ -65,14 +65,14 @@ inline double ridgeOf(double d, double eps) { return d > 1e-12 * eps ? 1e-12 * d
 // or A a copy of H).
 template <typename MatrixA, typename MatrixD>
 void addDamping(double lambda, const MatrixD& D, MatrixA* A) {
-  const double eps = 1e-12 * std::max(1.0, D.diagonal().maxCoeff());
+  const double eps = ridge(D.diagonal());
   for (Eigen::Index i = 0; i < A->rows(); ++i) (*A)(i, i) += lambda * D(i, i) + eps;
 }
 
 // A += λ diag(D) + E (above): the coupled steps' reduced system.
 template <typename MatrixA, typename MatrixD>
 void addScaleFreeDamping(double lambda, const MatrixD& D, MatrixA* A) {
-  const double eps = 1e-12 * std::max(1.0, D.diagonal().maxCoeff());
+  const double eps = ridge(D.diagonal());
   for (Eigen::Index i = 0; i < A->rows(); ++i)
     (*A)(i, i) += lambda * D(i, i) + ridgeOf(D(i, i), eps);
 }

@@ -287,6 +287,28 @@ double refittedCost(const MeasurementModel& model, const SensorParameters& theta
   return qPhase(model, theta, noise, loss, obs, qo, ws, trial);
 }
 
+// The reduced curvature S costs O(dof·nf²) per frame, the rest O(dof²):
+// on a long log S comes from frames spread over it, scaled up, while the
+// gradient and the back-substitution use every frame. S is then slightly
+// off (a quasi-Newton step, still converging fast), the gradient exact, so
+// the fixed point is the true optimum.
+struct CurvatureSample {
+  bool sampled = false;  // fewer frames than the log's
+  Observations obs;      // the spread frames (when sampled)
+  RowMatrix q;           // their q_t
+  double scale = 1;      // frames of the log per sampled frame
+  CurvatureSample(const Observations& all, const RowMatrix& all_q) {
+    const int T = all.num_frames;
+    const std::vector<int> sample = spreadFrames(T, kCurvatureFrames);
+    sampled = static_cast<int>(sample.size()) < T;
+    scale = static_cast<double>(T) / static_cast<double>(sample.size());
+    if (!sampled) return;
+    obs = selectFrames(all, sample);
+    q.resize(static_cast<Eigen::Index>(sample.size()), all_q.cols());
+    for (size_t i = 0; i < sample.size(); ++i) q.row(i) = all_q.row(sample[i]);
+  }
+};
+
 }  // namespace
 
 double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
@@ -295,28 +317,13 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
                    SensorParameters* theta, QState* state,
                    const CoupledStepOptions& options) {
   const FrameOptions& groups = options.groups;
-  const int dof = model.dof();
-  const int T = obs.num_frames;
   threads = std::min<int>(resolveThreads(threads), static_cast<int>(ws->size()));
   const ThetaSpace& space = model.thetaSpace();
   const int nf = space.freeSize();
   const std::vector<int>& free_of = space.freePosition();
   Eigen::VectorXd lower, upper;
   widenedLimits(model.robot(), &lower, &upper);
-  // The reduced curvature S costs O(dof·nf²) per frame, the rest O(dof²):
-  // on a long log S comes from frames spread over it, scaled up, while the
-  // gradient and the back-substitution use every frame. S is then slightly
-  // off (a quasi-Newton step, still converging fast), the gradient exact, so
-  // the fixed point is the true optimum.
-  const std::vector<int> sample = spreadFrames(T, kCurvatureFrames);
-  const bool sampled = static_cast<int>(sample.size()) < T;
-  const Observations sample_obs = sampled ? selectFrames(obs, sample) : Observations();
-  RowMatrix sample_q;
-  if (sampled) {
-    sample_q.resize(static_cast<Eigen::Index>(sample.size()), dof);
-    for (size_t i = 0; i < sample.size(); ++i) sample_q.row(i) = state->q.row(sample[i]);
-  }
-  const double scale = static_cast<double>(T) / static_cast<double>(sample.size());
+  const CurvatureSample sample(obs, state->q);
   const std::vector<double> pivots =
       options.inverse_charts ? potPivots(obs) : std::vector<double>();
   double old_cost = -1;
@@ -326,12 +333,13 @@ double coupledStep(const MeasurementModel& model, const NoiseModel& noise,
     const FrameVisitor& first = attempt == 0 ? options.visit : none;
     Eigen::VectorXd unreduced_diag;  // for the pots' charts
     Eigen::VectorXd* D = options.inverse_charts ? &unreduced_diag : nullptr;
-    ReducedSystem rs = reduceOntoTheta(model, *theta, noise, loss, sampled ? sample_obs : obs,
-                                       sampled ? sample_q : state->q, *lambda, !sampled,
-                                       threads, ws, groups, sampled ? none : first, nullptr, D);
-    if (sampled) {
-      rs.S *= scale;
-      if (D) *D *= scale;
+    ReducedSystem rs = reduceOntoTheta(
+        model, *theta, noise, loss, sample.sampled ? sample.obs : obs,
+        sample.sampled ? sample.q : state->q, *lambda, !sample.sampled, threads, ws, groups,
+        sample.sampled ? none : first, nullptr, D);
+    if (sample.sampled) {
+      rs.S *= sample.scale;
+      if (D) *D *= sample.scale;
       rs.g = reducedGradient(model, *theta, noise, loss, obs, state->q, *lambda, free_of, nf,
                              threads, ws, groups, first, &rs.cost);
     }
