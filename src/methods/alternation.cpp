@@ -330,12 +330,14 @@ constexpr int kEscapes = 4;
 // allows beyond the `done` already run; reported and counted on from there.
 LoopOutcome goOn(const Problem& problem, const MethodInput& in, int done, const PassStats& st,
                  State* s, Workspaces* ws,
-                 const std::function<void(int, const PassStats&)>& report) {
+                 const std::function<void(int, const PassStats&)>& report,
+                 const std::function<bool(int)>& pause = nullptr) {
   CalibrationOptions rest = in.options;
   rest.max_iterations -= done;
   LoopOutcome more = stacIterations(
       problem, rest, in.options.stac.coupled_steps, st, s, ws,
-      [&](int it, const PassStats& pass) { if (report) report(done + it, pass); });
+      [&](int it, const PassStats& pass) { if (report) report(done + it, pass); },
+      pause ? std::function<bool(int)>([&](int it) { return pause(done + it); }) : nullptr);
   more.iterations += done;
   return more;
 }
@@ -353,10 +355,12 @@ constexpr double kRoundingShare = 1e-7;
 // iterations counted on from `loop`'s; none (*s = before) if not kept.
 std::optional<LoopOutcome> goOnIfBetter(const MethodInput& in, const LoopOutcome& loop,
                                         State before, State* s, Workspaces* ws,
-                                        const std::function<void(int, const PassStats&)>& report) {
+                                        const std::function<void(int, const PassStats&)>& report,
+                                        const std::function<bool(int)>& pause = nullptr) {
   const Problem& problem = in.problem;
-  LoopOutcome again = goOn(problem, in, loop.iterations,
-                           costPass(problem, s->theta, s->noise, s->q.q, false, ws), s, ws, report);
+  LoopOutcome again =
+      goOn(problem, in, loop.iterations, costPass(problem, s->theta, s->noise, s->q.q, false, ws),
+           s, ws, report, pause);
   const double was = costPass(problem, before.theta, before.noise, before.q.q, false, ws).cost;
   const double now = costPass(problem, s->theta, before.noise, s->q.q, false, ws).cost;
   const RobotModel& robot = problem.model.robot();
@@ -364,8 +368,11 @@ std::optional<LoopOutcome> goOnIfBetter(const MethodInput& in, const LoopOutcome
   // (As well, but not better: only a converged end. A joint swung over its
   // whole range, ±0.01 with 0.001 of noise, took three such jumps by noise,
   // the last stopped by the iteration limit: "not converged", a false alarm.)
-  if (!(now < (1 - kRoundingShare) * was) &&
-      !(within && again.converged && now <= (1 + kSameFit) * was)) {
+  const bool better = now < (1 - kRoundingShare) * was ||
+                      (within && again.converged && now <= (1 + kSameFit) * was);
+  // From a stalled run (below) only a converged end: the stalled run, had
+  // it gone on, would have fitted better than where it paused.
+  if (!better || (loop.paused && !again.converged)) {
     *s = std::move(before);
     return std::nullopt;
   }
@@ -412,7 +419,7 @@ std::optional<LoopOutcome> restartInTreeOrder(
 // Jumps are tried only from a converged run (an unconverged one is
 // reported so), and within its iteration limit.
 bool openToJumps(const MethodInput& in, const LoopOutcome& loop) {
-  return loop.converged && loop.iterations < in.options.max_iterations;
+  return (loop.converged || loop.paused) && loop.iterations < in.options.max_iterations;
 }
 
 // The initialisation's searches can leave a minimum whose pots' maps are a
@@ -503,6 +510,9 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
 // iterations, and no check of the verdict fails). A converged run with
 // such a gain gets the same restart.
 constexpr int kDivergenceCheck = 30;
+// A run still unconverged after this many iterations with a sensor misfit
+// by kTreeRestartMisfit is paused once, and the escapes tried from there.
+constexpr int kStallCheck = 60;
 constexpr double kDivergedGain = 4.0;
 
 // The guesses whose pot's gain in `now` has grown beyond kDivergedGain
@@ -526,15 +536,21 @@ LoopOutcome iterateFromStart(const MethodInput& in, const Start& start, State* s
   const State first = *s;
   const std::vector<PotGuess> guesses =
       makePotGuesses(problem.model.robot(), problem.model.sensors(), s->theta, problem.obs);
+  const auto stalled = [&](int it) {
+    return it == kStallCheck && it < in.options.max_iterations &&
+           someSensorMisfits(problem.model, s->theta, problem.seed_noise, problem.obs, s->q.q,
+                             kTreeRestartMisfit, kTreeRestartMisfit);
+  };
   LoopOutcome loop = stacIterations(
       problem, in.options, start.coupled, start.st, s, ws, report, [&](int it) {
-        return it >= kDivergenceCheck && it < in.options.max_iterations &&
-               !divergedPots(guesses, first.theta, s->theta).empty();
+        return (it >= kDivergenceCheck && it < in.options.max_iterations &&
+                !divergedPots(guesses, first.theta, s->theta).empty()) ||
+               stalled(it);
       });
   const std::vector<int> diverged = divergedPots(guesses, first.theta, s->theta);
   const bool converged_diverged = loop.converged && !diverged.empty() &&
                                   loop.iterations < in.options.max_iterations;
-  if (!loop.paused && !converged_diverged) return loop;
+  if (!(loop.paused && !diverged.empty()) && !converged_diverged) return loop;
   State before = *s;
   for (int i : diverged) {
     const PotGuess& g = guesses[i];
@@ -542,9 +558,12 @@ LoopOutcome iterateFromStart(const MethodInput& in, const Start& start, State* s
     s->q.q.col(g.column) = first.q.q.col(g.column);
     flipSign(g, &s->theta, &s->q.q);
   }
-  if (std::optional<LoopOutcome> again = goOnIfBetter(in, loop, std::move(before), s, ws, report))
+  LoopOutcome flipped = loop;
+  flipped.paused = false;  // the flip's end is compared as any jump's
+  if (std::optional<LoopOutcome> again =
+          goOnIfBetter(in, flipped, std::move(before), s, ws, report, stalled))
     return *again;
-  return loop.paused ? goOn(problem, in, loop.iterations, loop.st, s, ws, report) : loop;
+  return loop.paused ? goOn(problem, in, loop.iterations, loop.st, s, ws, report, stalled) : loop;
 }
 
 // Under Huber's loss a gross reading still pulls with a constant force: on
@@ -585,6 +604,7 @@ Outcome stacRun(const MethodInput& in, bool* set_aside) {
   };
   LoopOutcome loop = iterateFromStart(in, start, &s, &ws, report);
   loop = escapeWrongMinimum(in, std::move(loop), &s, &ws, report);
+  if (loop.paused) loop = goOn(problem, in, loop.iterations, loop.st, &s, &ws, report);
   Observations kept;
   const Problem fitted = setGrossReadingsAside(in, &loop, &s, &ws, report, &kept);
   Outcome out = finishRun(fitted, &start, loop.st, &ws);
