@@ -19,6 +19,8 @@
 // STAC_BASIN_LOSS=cauchy runs the outlier rows under Cauchy's loss instead
 // of Huber's; STAC_BASIN_TRACE=1 prints every iteration's cost and RMS
 // and the seconds since the run's start;
+// STAC_BASIN_MAX_ITERATIONS=n raises (or lowers) the iteration limit, as
+// a user told "not converged" would;
 // STAC_BASIN_NO_SCREEN=1 fits the outlier rows without setting spikes in
 // time aside first (spike_screen.hpp). Other robots without a rebuild:
 // STAC_ROBOTS_DIR=dir (its *.urdf instead of the configured set),
@@ -146,6 +148,7 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
     if (const char* th = std::getenv("STAC_BASIN_THREADS")) o.threads = std::atoi(th);
     if (v == Variant::kOutliers) o.loss = outlierLoss();
     if (std::getenv("STAC_BASIN_NO_SCREEN")) o.screen_spikes = false;  // to measure the screen
+    if (const char* it = std::getenv("STAC_BASIN_MAX_ITERATIONS")) o.max_iterations = std::atoi(it);
     if (std::getenv("STAC_BASIN_TRACE"))  // each iteration's cost and RMS, to stderr
       o.progress = [start = std::chrono::steady_clock::now()](const IterationReport& r) {
         const std::chrono::duration<double> t = std::chrono::steady_clock::now() - start;

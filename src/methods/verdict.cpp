@@ -315,6 +315,7 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, co
                   "numerical failure; the parameters cannot be trusted");
   checkJointOrigins(r.sensors, r.theta, &why);
   if (!out.loss_disagreement.empty()) why.push_back(out.loss_disagreement);
+  if (!out.slow_convergence.empty()) why.push_back(out.slow_convergence);
   return why;
 }
 

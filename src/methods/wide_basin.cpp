@@ -78,20 +78,29 @@ FrameOptions markersOnly() {
 // tendons against their own factor (0: not checked): a pot's sign chosen
 // wrong on a joint that moves its markers little (a finger's last joint)
 // shows only in the tendons that span it.
+SensorMisfit worstMisfit(const MeasurementModel& model, const SensorParameters& theta,
+                         const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
+                         double tendon_factor) {
+  const auto errors = medianErrors(model, theta, obs, q, 1);
+  SensorMisfit worst;
+  for (SensorGroup g : {SensorGroup::kMarker, SensorGroup::kJoint, SensorGroup::kTendon}) {
+    const int gi = static_cast<int>(g);
+    const double k = g == SensorGroup::kTendon ? tendon_factor : 1.0;
+    if (k <= 0) continue;
+    for (size_t i = 0; i < errors[gi].size(); ++i) {
+      if (errors[gi][i].count == 0) continue;
+      const double ratio =
+          errors[gi][i].median / (kMedianErrorInSigma[gi] * noise.sigma(g, static_cast<int>(i))) / k;
+      if (ratio > worst.ratio) worst = {g, static_cast<int>(i), ratio};
+    }
+  }
+  return worst;
+}
+
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
                        double factor, double tendon_factor) {
-  const auto errors = medianErrors(model, theta, obs, q, 1);
-  for (SensorGroup g : {SensorGroup::kMarker, SensorGroup::kJoint, SensorGroup::kTendon}) {
-    const int gi = static_cast<int>(g);
-    const double k = g == SensorGroup::kTendon ? tendon_factor : factor;
-    if (k <= 0) continue;
-    for (size_t i = 0; i < errors[gi].size(); ++i)
-      if (errors[gi][i].count > 0 &&
-          errors[gi][i].median > k * kMedianErrorInSigma[gi] * noise.sigma(g, static_cast<int>(i)))
-        return true;
-  }
-  return false;
+  return worstMisfit(model, theta, noise, obs, q, tendon_factor / factor).ratio > factor;
 }
 
 // ---- WideBasin ----

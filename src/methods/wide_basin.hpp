@@ -197,6 +197,17 @@ void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
 bool someSensorMisfits(const MeasurementModel& model, const SensorParameters& theta,
                        const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
                        double factor = 2.0, double tendon_factor = 2.0);
+// The sensor whose median residual over the frames of obs is the most
+// times what Gaussian noise of its σ gives (ratio 0: no readings); a
+// tendon's ratio divided by tendon_factor (0: the tendons not checked).
+struct SensorMisfit {
+  SensorGroup group = SensorGroup::kMarker;
+  int sensor = -1;
+  double ratio = 0;
+};
+SensorMisfit worstMisfit(const MeasurementModel& model, const SensorParameters& theta,
+                         const NoiseModel& noise, const Observations& obs, const RowMatrix& q,
+                         double tendon_factor = 1.0);
 
 // A candidate's score and the subsample state it left.
 struct ScoredCandidate {

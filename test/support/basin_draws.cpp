@@ -177,7 +177,8 @@ Simulation simulateVariant(const Robot& robot, const MeasurementModel& model,
   return sim;
 }
 
-BasinReplay replayBasinTruth(const Robot& robot, Variant v, int index, LossKind outlier_loss) {
+BasinReplay replayBasinTruth(const Robot& robot, Variant v, int index, LossKind outlier_loss,
+                             CalibrationOptions o) {
   const SensorSet& sensors = robot.truth.sensors;
   std::mt19937_64 rng(2024);  // the basin test's draw of truths
   BasinReplay out;
@@ -185,7 +186,6 @@ BasinReplay replayBasinTruth(const Robot& robot, Variant v, int index, LossKind 
     out.truth = randomTruth(robot.model, sensors, robot.truth.theta, rng);
   const MeasurementModel model(robot.model, sensors);
   const Simulation sim = simulateVariant(robot, model, out.truth, v, robot.frames, 1000 + index);
-  CalibrationOptions o;
   o.threads = 2;
   if (v == Variant::kOutliers) o.loss = outlier_loss;
   out.result = calibrate(robot.model, sensors, paperSeed(sensors, out.truth),

@@ -69,13 +69,15 @@ Simulation simulateVariant(const Robot& robot, const MeasurementModel& model,
 // The basin test's truth `index` of `robot` in variant `v` again (its draw
 // of truths from one generator, the log of `robot.frames` frames from seed
 // 1000 + index), calibrated from the paper's seed on 2 threads (the outlier
-// variant under `outlier_loss`): a miss the basin found, replayed as a
+// variant under `outlier_loss`), with `options` where given (its loss and
+// threads still set as said): a miss the basin found, replayed as a
 // regression test.
 struct BasinReplay {
   SensorParameters truth;
   CalibrationResult result;
 };
 BasinReplay replayBasinTruth(const Robot& robot, Variant v, int index,
-                             LossKind outlier_loss = LossKind::kHuber);
+                             LossKind outlier_loss = LossKind::kHuber,
+                             CalibrationOptions options = CalibrationOptions());
 
 }  // namespace stac::test
