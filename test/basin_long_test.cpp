@@ -136,12 +136,13 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
   const char* pick = std::getenv("STAC_BASIN_PICK");  // one truth, by its index
   // Another draw of the motion and noise for the same truths (is a std honest?)
   const char* noise_env = std::getenv("STAC_BASIN_NOISE_SEED");
-  const int noise_seed = noise_env ? 7919 * std::atoi(noise_env) : 0;
+  const int noise_draw = noise_env ? std::atoi(noise_env) : 0;
   for (int k = 0; k < truths; ++k) {
     SensorParameters truth = randomTruth(robot.model, robot.truth.sensors, robot.truth.theta, rng);
     truthInTicks(ticks, &truth);
     if (pick && std::atoi(pick) != k) continue;
-    const Simulation sim = simulateVariant(robot, model, truth, v, frames, 1000 + k + noise_seed);
+    const Simulation sim =
+        simulateVariant(robot, model, truth, v, frames, test::basinLogSeed(k, noise_draw));
     const Observations obs = bindLog(sim.data.log, robot.truth.sensors, "truth", 1.0);
     CalibrationOptions o;
     o.threads = 2;

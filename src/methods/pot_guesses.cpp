@@ -220,6 +220,34 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
   return moves;
 }
 
+std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
+                                       const std::vector<PotGuess>& guesses, const RowMatrix& q) {
+  std::vector<MinimumMove> moves;
+  const std::vector<int> mostly_at_limit = jointsOftenAtLimit(robot, q, 0.5);
+  for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
+    const int j = guesses[i].column;
+    const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
+    if (guesses[i].bias_held || !std::isfinite(span) || q.rows() == 0) continue;
+    if (std::find(mostly_at_limit.begin(), mostly_at_limit.end(), j) == mostly_at_limit.end())
+      continue;
+    MinimumMove move;
+    move.recentre = {i};
+    moves.push_back(std::move(move));
+  }
+  return moves;
+}
+
+namespace {
+void recentre(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+  const int j = g.column;
+  const double shift = 0.5 * (robot.lowerLimits()[j] + robot.upperLimits()[j]) -
+                       0.5 * (q->col(j).maxCoeff() + q->col(j).minCoeff());
+  q->col(j).array() += shift;
+  GainBias& gb = theta->joint_sensor[g.sensor];
+  gb.bias -= gb.gain * shift;
+}
+}  // namespace
+
 std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                    const RowMatrix& q) {
   std::vector<MinimumMove> moves;
@@ -394,6 +422,7 @@ void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
   for (int i : move.half_turn) turn(robot, guesses[i], 1, theta, q);
   for (int i : move.whole_turn) turn(robot, guesses[i], 2, theta, q);
   for (int i : move.wrap) wrapAngles(guesses[i], q);
+  for (int i : move.recentre) recentre(robot, guesses[i], theta, q);
 }
 
 }  // namespace stac

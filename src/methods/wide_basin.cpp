@@ -366,10 +366,11 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
     // motion that noise carries past the limits.
     bool relieves = false;
     const auto moved_at_limit = atWidenedLimit(robot, moved.q);
-    for (int i : move.whole_turn) {
-      const int j = guesses_[i].column;
-      relieves |= moved_at_limit.col(j).count() < at_limit.col(j).count();
-    }
+    for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre})
+      for (int i : *shifted) {
+        const int j = guesses_[i].column;
+        relieves |= moved_at_limit.col(j).count() < at_limit.col(j).count();
+      }
     const auto moved_beyond = beyondLimits(robot, moved.q);
     bool left = false, inside = true;
     for (const std::vector<int>* turned : {&move.flip, &move.half_turn})
@@ -393,6 +394,7 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   std::vector<MinimumMove> moves = minimumMoves(robot, guesses_, moves_, &through);
   for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
   for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
+  for (MinimumMove& move : recentreMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
   std::vector<double> cost(moves.size());
   for (size_t m = 0; m < moves.size(); ++m) cost[m] = consider(moves[m]);
   // A wrist or shoulder flip is exact about the mirrored joints' zeros (or
@@ -436,7 +438,7 @@ void WideBasin::moveTo(const MinimumMove& move, bool mirror_about_zero, const Ob
   applyMove(model_.robot(), guesses_, move, theta, &state->q, mirror_about_zero);
   if (move.flip_about_zero && marker_group_free_)
     initialiseMarkerGroup(model_, obs, *state, 3, threads_, ws_, theta);
-  if (!move.wrap.empty()) {
+  if (!move.wrap.empty() || !move.recentre.empty()) {
     ThetaPhaseOptions to;
     to.threads = threads_;
     thetaPhase(model_, noise_, loss_, obs, *state, to, ws_, theta);

@@ -178,14 +178,15 @@ Simulation simulateVariant(const Robot& robot, const MeasurementModel& model,
 }
 
 BasinReplay replayBasinTruth(const Robot& robot, Variant v, int index, LossKind outlier_loss,
-                             CalibrationOptions o) {
+                             CalibrationOptions o, int noise_draw) {
   const SensorSet& sensors = robot.truth.sensors;
   std::mt19937_64 rng(2024);  // the basin test's draw of truths
   BasinReplay out;
   for (int k = 0; k <= index; ++k)
     out.truth = randomTruth(robot.model, sensors, robot.truth.theta, rng);
   const MeasurementModel model(robot.model, sensors);
-  const Simulation sim = simulateVariant(robot, model, out.truth, v, robot.frames, 1000 + index);
+  const Simulation sim = simulateVariant(robot, model, out.truth, v, robot.frames,
+                                         basinLogSeed(index, noise_draw));
   o.threads = 2;
   if (v == Variant::kOutliers) o.loss = outlier_loss;
   out.result = calibrate(robot.model, sensors, paperSeed(sensors, out.truth),

@@ -66,18 +66,23 @@ constexpr int kPostures = 80;
 Simulation simulateVariant(const Robot& robot, const MeasurementModel& model,
                            const SensorParameters& truth, Variant v, int frames, int seed);
 
+// The seed of the basin test's log for truth `index` in its noise draw
+// `draw` (STAC_BASIN_NOISE_SEED; 0: the default draw).
+inline int basinLogSeed(int index, int draw) { return 1000 + index + 7919 * draw; }
+
 // The basin test's truth `index` of `robot` in variant `v` again (its draw
-// of truths from one generator, the log of `robot.frames` frames from seed
-// 1000 + index), calibrated from the paper's seed on 2 threads (the outlier
-// variant under `outlier_loss`), with `options` where given (its loss and
-// threads still set as said): a miss the basin found, replayed as a
-// regression test.
+// of truths from one generator, the log of `robot.frames` frames from
+// basinLogSeed(index, noise_draw)), calibrated from the paper's seed on 2
+// threads (the outlier variant under `outlier_loss`), with `options` where
+// given (its loss and threads still set as said): a miss the basin found,
+// replayed as a regression test.
 struct BasinReplay {
   SensorParameters truth;
   CalibrationResult result;
 };
 BasinReplay replayBasinTruth(const Robot& robot, Variant v, int index,
                              LossKind outlier_loss = LossKind::kHuber,
-                             CalibrationOptions options = CalibrationOptions());
+                             CalibrationOptions options = CalibrationOptions(),
+                             int noise_draw = 0);
 
 }  // namespace stac::test
