@@ -202,20 +202,37 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
   turn(robot, g, 1, theta, q);
 }
 
+namespace {
+// The guesses whose bias is free on a joint with finite limits, and
+// whether each one's angles in q sit at or beyond them in most frames (a
+// few frames dragged there by gross readings are no turn off).
+struct LimitedGuess {
+  int index;
+  bool mostly_at_limit;
+};
+std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
+                                         const std::vector<PotGuess>& guesses,
+                                         const RowMatrix& q) {
+  const std::vector<int> at_limit = jointsOftenAtLimit(robot, q, 0.5);
+  std::vector<LimitedGuess> out;
+  for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
+    const int j = guesses[i].column;
+    if (guesses[i].bias_held || !std::isfinite(robot.upperLimits()[j] - robot.lowerLimits()[j]))
+      continue;
+    out.push_back({i, std::find(at_limit.begin(), at_limit.end(), j) != at_limit.end()});
+  }
+  return out;
+}
+}  // namespace
+
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses, const RowMatrix& q) {
   std::vector<MinimumMove> moves;
-  // Narrower limits: where most frames' angles are at or beyond them (a
-  // few frames dragged there by gross readings are no turn off).
-  const std::vector<int> mostly_at_limit = jointsOftenAtLimit(robot, q, 0.5);
-  for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
-    const int j = guesses[i].column;
-    const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
+  for (const LimitedGuess& g : limitedGuesses(robot, guesses, q)) {
+    const int j = guesses[g.index].column;
     const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type == JointType::kRevolute;
-    if (guesses[i].bias_held || !revolute || !std::isfinite(span)) continue;
-    if (span > 2 * M_PI ||
-        std::find(mostly_at_limit.begin(), mostly_at_limit.end(), j) != mostly_at_limit.end())
-      moves.push_back({{}, {}, {i}});
+    if (revolute && (robot.upperLimits()[j] - robot.lowerLimits()[j] > 2 * M_PI || g.mostly_at_limit))
+      moves.push_back({{}, {}, {g.index}});
   }
   return moves;
 }
@@ -223,15 +240,11 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
 std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
                                        const std::vector<PotGuess>& guesses, const RowMatrix& q) {
   std::vector<MinimumMove> moves;
-  const std::vector<int> mostly_at_limit = jointsOftenAtLimit(robot, q, 0.5);
-  for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
-    const int j = guesses[i].column;
-    const double span = robot.upperLimits()[j] - robot.lowerLimits()[j];
-    if (guesses[i].bias_held || !std::isfinite(span) || q.rows() == 0) continue;
-    if (std::find(mostly_at_limit.begin(), mostly_at_limit.end(), j) == mostly_at_limit.end())
-      continue;
+  if (q.rows() == 0) return moves;
+  for (const LimitedGuess& g : limitedGuesses(robot, guesses, q)) {
+    if (!g.mostly_at_limit) continue;
     MinimumMove move;
-    move.recentre = {i};
+    move.recentre = {g.index};
     moves.push_back(std::move(move));
   }
   return moves;
