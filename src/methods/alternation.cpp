@@ -555,7 +555,8 @@ LoopOutcome iterateFromStart(const MethodInput& in, const Start& start, State* s
   const std::vector<int> diverged = divergedPots(guesses, first.theta, s->theta);
   const bool converged_diverged = loop.converged && !diverged.empty() &&
                                   loop.iterations < in.options.max_iterations;
-  if (!(loop.paused && !diverged.empty()) && !converged_diverged) return loop;
+  const bool paused_diverged = loop.paused && !diverged.empty();  // not a stall
+  if (!paused_diverged && !converged_diverged) return loop;
   State before = *s;
   for (int i : diverged) {
     const PotGuess& g = guesses[i];

@@ -342,45 +342,57 @@ bool WideBasin::recheckSigns(Estimate* est) const {
   return flipped_any;
 }
 
+namespace {
+// Per frame and joint of a motion: at the widened bound, beyond the URDF's limits.
+struct LimitFrames {
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> at, beyond;
+};
+
+// Whether `move`, which took a motion with limit frames `before` to the
+// angles `moved`, relieves the limits of the joints it turns (true angles
+// never leave them): a whole turn or a recentring that leaves fewer frames
+// at the widened bound, or a mirror image whose motion the URDF limits
+// hold where a joint it turns left them in more than kEscapeShareAtLimit
+// of the frames (panda/partial basin truth 6: the shoulder's mirror, joint
+// 3 down to -3.25 against its -2.90, fitted as well as the truth, and
+// reported ambiguous). Not a mirror that only shaves frames off a motion
+// that noise carries past the limits.
+bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                    const MinimumMove& move, const LimitFrames& before, const RowMatrix& moved) {
+  bool relieves = false;
+  const auto moved_at_limit = atWidenedLimit(robot, moved);
+  for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre})
+    for (int i : *shifted) {
+      const int j = guesses[i].column;
+      relieves |= moved_at_limit.col(j).count() < before.at.col(j).count();
+    }
+  const auto moved_beyond = beyondLimits(robot, moved);
+  bool left = false, inside = true;
+  for (const std::vector<int>* turned : {&move.flip, &move.half_turn})
+    for (int i : *turned) {
+      const int j = guesses[i].column;
+      left |= often(static_cast<double>(before.beyond.col(j).count()),
+                    static_cast<double>(moved.rows()), kEscapeShareAtLimit);
+      inside &= moved_beyond.col(j).count() == 0;
+    }
+  return relieves || (left && inside);
+}
+}  // namespace
+
 std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
     Estimate* est, const std::vector<int>& at_limits) const {
   QState sub;
   sub.q = subsampleAngles(est->state.q);
   const double base = refinedCost(est->theta, sub, PotSteps::kInverseCharts);
   const RobotModel& robot = model_.robot();
-  const auto at_limit = atWidenedLimit(robot, sub.q);
-  const auto beyond = beyondLimits(robot, sub.q);
+  const LimitFrames limits{atWidenedLimit(robot, sub.q), beyondLimits(robot, sub.q)};
   double best = kBetterMinimum * base, within_cost = (1 + kSameFit) * base;
   std::optional<MinimumMove> chosen, within;
   const auto consider = [&](const MinimumMove& move) {
     SensorParameters theta = est->theta;
     QState moved = sub;
     moveTo(move, false, sub_, &theta, &moved);
-    // A move that relieves the limits of the joints it turns (true angles
-    // never leave them): a whole turn that leaves fewer frames at the
-    // widened bound, or a mirror image whose motion the URDF limits hold
-    // where a joint it turns left them in more than kEscapeShareAtLimit of
-    // the frames (panda/partial basin truth 6: the shoulder's mirror, joint
-    // 3 down to -3.25 against its -2.90, fitted as well as the truth, and
-    // reported ambiguous). Not a mirror that only shaves frames off a
-    // motion that noise carries past the limits.
-    bool relieves = false;
-    const auto moved_at_limit = atWidenedLimit(robot, moved.q);
-    for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre})
-      for (int i : *shifted) {
-        const int j = guesses_[i].column;
-        relieves |= moved_at_limit.col(j).count() < at_limit.col(j).count();
-      }
-    const auto moved_beyond = beyondLimits(robot, moved.q);
-    bool left = false, inside = true;
-    for (const std::vector<int>* turned : {&move.flip, &move.half_turn})
-      for (int i : *turned) {
-        const int j = guesses_[i].column;
-        left |= often(static_cast<double>(beyond.col(j).count()),
-                      static_cast<double>(sub.q.rows()), kEscapeShareAtLimit);
-        inside &= moved_beyond.col(j).count() == 0;
-      }
-    relieves |= left && inside;
+    const bool relieves = relievesLimits(robot, guesses_, move, limits, moved.q);
     const double cost = refinedCost(std::move(theta), std::move(moved), PotSteps::kInverseCharts);
     if (cost < best) {
       best = cost, chosen = move;
