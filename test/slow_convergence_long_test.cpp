@@ -19,7 +19,6 @@ namespace {
 TEST(SlowConvergence, ACrawlThatConvergesInAWrongMinimumIsSuspect) {
   const test::Robot robot = test::bundledRobot("hand24", 500);
   CalibrationOptions o;
-  o.threads = 2;
   o.max_iterations = 1500;
   const auto [truth, r] =
       test::replayBasinTruth(robot, test::Variant::kPartialSwings, 10, LossKind::kHuber, o);

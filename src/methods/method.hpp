@@ -33,7 +33,7 @@ struct Outcome {
   // A Huber run that set gross readings aside: the verdict reason when a
   // run with Cauchy's loss disagrees (redescending_check.hpp); else empty.
   std::string loss_disagreement;
-  // A run that crawled in a misfit and converged still misfitting: the
+  // A run that converged only after a crawl, still misfitting: the
   // verdict reason (alternation.cpp slowConvergence); else empty.
   std::string slow_convergence;
 };

@@ -223,6 +223,17 @@ std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
   }
   return out;
 }
+
+// Shifts guess g's joint's motion in q so that its middle is its limits'
+// middle, and the pot's bias with it (recentreMoves).
+void recentre(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+  const int j = g.column;
+  const double shift = 0.5 * (robot.lowerLimits()[j] + robot.upperLimits()[j]) -
+                       0.5 * (q->col(j).maxCoeff() + q->col(j).minCoeff());
+  q->col(j).array() += shift;
+  GainBias& gb = theta->joint_sensor[g.sensor];
+  gb.bias -= gb.gain * shift;
+}
 }  // namespace
 
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
@@ -249,17 +260,6 @@ std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
   }
   return moves;
 }
-
-namespace {
-void recentre(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
-  const int j = g.column;
-  const double shift = 0.5 * (robot.lowerLimits()[j] + robot.upperLimits()[j]) -
-                       0.5 * (q->col(j).maxCoeff() + q->col(j).minCoeff());
-  q->col(j).array() += shift;
-  GainBias& gb = theta->joint_sensor[g.sensor];
-  gb.bias -= gb.gain * shift;
-}
-}  // namespace
 
 std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                    const RowMatrix& q) {

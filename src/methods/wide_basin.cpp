@@ -359,13 +359,15 @@ struct LimitFrames {
 // that noise carries past the limits.
 bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                     const MinimumMove& move, const LimitFrames& before, const RowMatrix& moved) {
-  bool relieves = false;
-  const auto moved_at_limit = atWidenedLimit(robot, moved);
-  for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre})
-    for (int i : *shifted) {
-      const int j = guesses[i].column;
-      relieves |= moved_at_limit.col(j).count() < before.at.col(j).count();
-    }
+  if (!move.whole_turn.empty() || !move.recentre.empty()) {
+    const auto moved_at_limit = atWidenedLimit(robot, moved);
+    for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre})
+      for (int i : *shifted) {
+        const int j = guesses[i].column;
+        if (moved_at_limit.col(j).count() < before.at.col(j).count()) return true;
+      }
+  }
+  if (move.flip.empty() && move.half_turn.empty()) return false;
   const auto moved_beyond = beyondLimits(robot, moved);
   bool left = false, inside = true;
   for (const std::vector<int>* turned : {&move.flip, &move.half_turn})
@@ -375,7 +377,7 @@ bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesse
                     static_cast<double>(moved.rows()), kEscapeShareAtLimit);
       inside &= moved_beyond.col(j).count() == 0;
     }
-  return relieves || (left && inside);
+  return left && inside;
 }
 }  // namespace
 
