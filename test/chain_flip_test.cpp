@@ -25,7 +25,7 @@ void expectPartialTruthReached(const std::string& fixture, int index) {
       RobotModel::fromFile(std::string(STAC_SOURCE_DIR) + "/test/fixtures/" + fixture), 600);
   const auto [truth, r] = test::replayBasinTruth(robot, test::Variant::kPartialSwings, index);
   std::string why;
-  EXPECT_TRUE(test::closeToTruth(robot.model, robot.truth.sensors, truth, r, &why)) << why;
+  EXPECT_TRUE(test::closeToTruth(robot.truth.sensors, truth, r, &why)) << why;
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }
 

@@ -21,7 +21,7 @@ TEST(EscapeStart, AFoldedAnkleIsLeftFromTheStartItsJumpWasScoredFrom) {
   const test::Robot humanoid = test::bundledRobot("humanoid38", 500);  // as the basin test
   const auto [truth, r] = test::replayBasinTruth(humanoid, test::Variant::kPartialSwings, 13);
   std::string why;
-  EXPECT_TRUE(test::closeToTruth(humanoid.model, humanoid.truth.sensors, truth, r, &why)) << why;
+  EXPECT_TRUE(test::closeToTruth(humanoid.truth.sensors, truth, r, &why)) << why;
   EXPECT_TRUE(r.summary.converged) << r.summary.iterations << " iterations";
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }

@@ -122,7 +122,7 @@ TEST(GainDivergence, ARunConvergedWithAGainDivergedIsRestartedMirrored) {
   EXPECT_NEAR(r.theta.joint_sensor[j].gain, truth.joint_sensor[j].gain,
               4 * r.std.joint_sensor[j].gain);
   std::string why;
-  EXPECT_TRUE(test::closeToTruth(go1.model, sensors, truth, r, &why)) << why;
+  EXPECT_TRUE(test::closeToTruth(sensors, truth, r, &why)) << why;
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }
 

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 
@@ -16,6 +17,7 @@
 #include "stac/calibrate.hpp"
 #include "stac/sensors_file.hpp"
 #include "stac/simulate.hpp"
+#include "stac/theta_space.hpp"
 #include "support/chain_fixture.hpp"
 
 namespace stac {
@@ -50,10 +52,10 @@ TEST(MirrorAmbiguity, TheWristFlipFitsAlikeWithTheMiddleMarkersFree) {
   Estimate est;
   est.theta = c.truth.theta;
   est.state.q = c.q;
-  const std::vector<MinimumMove> same = basin.equivalentMoves(est);
+  const std::vector<WideBasin::EquivalentMove> same = basin.equivalentMoves(est);
   ASSERT_EQ(same.size(), 1u);
-  EXPECT_EQ(same[0].flip, std::vector<int>{1});
-  EXPECT_EQ(same[0].half_turn, (std::vector<int>{0, 2}));
+  EXPECT_EQ(same[0].move.flip, std::vector<int>{1});
+  EXPECT_EQ(same[0].move.half_turn, (std::vector<int>{0, 2}));
 }
 
 // The same chain with j2 straight at π (its origin turned half a turn about
@@ -89,15 +91,84 @@ TEST(MirrorAmbiguity, AJointStraightAtHalfATurnMirrorsAboutIt) {
   Estimate est;
   est.theta = truth.theta;
   est.state.q = q;
-  const std::vector<MinimumMove> same = basin.equivalentMoves(est);
+  const std::vector<WideBasin::EquivalentMove> same = basin.equivalentMoves(est);
   ASSERT_EQ(same.size(), 1u);
-  EXPECT_EQ(same[0].flip, std::vector<int>{1});
-  EXPECT_EQ(same[0].half_turn, (std::vector<int>{0, 2}));
+  EXPECT_EQ(same[0].move.flip, std::vector<int>{1});
+  EXPECT_EQ(same[0].move.half_turn, (std::vector<int>{0, 2}));
 }
 
-TEST(MirrorAmbiguity, ACalibrationListsIt) {
+bool lists(const std::vector<UnidentifiableDirection>& dirs, const std::string& parameter) {
+  return std::any_of(dirs.begin(), dirs.end(), [&](const UnidentifiableDirection& d) {
+    return std::find(d.parameters.begin(), d.parameters.end(), parameter) != d.parameters.end();
+  });
+}
+
+// The pots the mirror moves and the markers of links 1 and 2, which move
+// with them, are listed and get no std; link 3's marker and j4's pot, the
+// same in both configurations, keep theirs.
+TEST(MirrorAmbiguity, ACalibrationListsItAndGivesTheMovedParametersNoStd) {
   const CalibrationResult r = calibrateFromTheTruth(Chain(false));
+  const auto& u = r.summary.unidentifiable;
+  EXPECT_TRUE(listsTheMirror(u));
+  for (const char* p : {"joint_sensors.j1_pot.bias", "joint_sensors.j2_pot.gain",
+                        "joint_sensors.j3_pot.bias", "markers.m_l1.position.x",
+                        "markers.m_l2.position.x"})
+    EXPECT_TRUE(lists(u, p)) << p;
+  for (const char* p : {"joint_sensors.j4_pot.gain", "markers.m_l3.position.x"})
+    EXPECT_FALSE(lists(u, p)) << p;
+  EXPECT_TRUE(std::isinf(r.std.joint_sensor[1].gain));
+  EXPECT_TRUE(std::isinf(r.std.joint_sensor[0].bias));
+  EXPECT_TRUE(std::isinf(r.std.marker_position[1].x()));  // m_l1
+  EXPECT_TRUE(std::isfinite(r.std.joint_sensor[3].gain));
+  EXPECT_TRUE(std::isfinite(r.std.marker_position[3].norm()));  // m_l3
+  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
+}
+
+// Started in the mirror (the configuration the data cannot tell from the
+// truth), the calibration stays there and says so: the truth lies within 4
+// reported std of every parameter — the mirrored ones' std infinite, the
+// others' finite and the truth within them. Before, the mirrored pots kept
+// a sharp local std and the answer read as confidently wrong.
+TEST(MirrorAmbiguity, FromTheMirrorTheTruthIsWithinTheReportedStd) {
+  const Chain c(false);
+  const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
+  const RobustLoss loss;
+  Workspaces ws = makeWorkspaces(c.model, 2);
+  const WideBasin basin(c.model, c.obs, noise, loss, 2, &ws, c.truth.theta, false);
+  Estimate est;
+  est.theta = c.truth.theta;
+  est.state.q = c.q;
+  const std::vector<WideBasin::EquivalentMove> same = basin.equivalentMoves(est);
+  ASSERT_EQ(same.size(), 1u);
+  RowMatrix mirrored = c.q;  // q1 + π, −q2, q3 + π
+  mirrored.col(0).array() += M_PI;
+  mirrored.col(1) *= -1.0;
+  mirrored.col(2).array() += M_PI;
+  CalibrationOptions o;
+  o.threads = 2;
+  const CalibrationResult r =
+      calibrate(c.robot, c.truth.sensors, same[0].theta, c.obs, o, nullptr, &mirrored);
+  ASSERT_TRUE(r.summary.converged);
+  EXPECT_LT(r.theta.joint_sensor[1].gain * c.truth.theta.joint_sensor[1].gain, 0)
+      << "not the mirror";
   EXPECT_TRUE(listsTheMirror(r.summary.unidentifiable));
+  const ThetaSpace space(c.truth.sensors);
+  const Eigen::VectorXd d = space.minus(r.theta, c.truth.theta);
+  int infinite = 0;
+  auto within = [&](double error, double std_, const std::string& what) {
+    infinite += std::isinf(std_);
+    EXPECT_LE(std::abs(error), 4 * std_) << what;
+  };
+  for (int s = 0; s < 4; ++s) {
+    within(d[space.jointOffset(s)], r.std.joint_sensor[s].gain, "gain " + std::to_string(s));
+    within(d[space.jointOffset(s) + 1], r.std.joint_sensor[s].bias, "bias " + std::to_string(s));
+  }
+  for (size_t m = 0; m < c.truth.sensors.markers.size(); ++m)
+    for (int i = 0; i < 3; ++i)
+      within(d[space.markerOffset(static_cast<int>(m)) + i], r.std.marker_position[m][i],
+             c.truth.sensors.markers[m].name);
+  EXPECT_GE(infinite, 5);  // j1's bias, j2's gain and bias, j3's bias, m_l1 and m_l2
+  EXPECT_TRUE(std::isfinite(r.std.joint_sensor[3].gain));
 }
 
 TEST(MirrorAmbiguity, AMarkerHeldOnALinkInBetweenTellsThemApart) {

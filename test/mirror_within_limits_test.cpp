@@ -36,7 +36,7 @@ void expectPandaPartialTruthReached(int index) {
   const SensorSet& sensors = panda.truth.sensors;
   const auto [truth, r] = test::replayBasinTruth(panda, test::Variant::kPartialSwings, index);
   std::string why;
-  EXPECT_TRUE(test::closeToTruth(panda.model, sensors, truth, r, &why)) << why;
+  EXPECT_TRUE(test::closeToTruth(sensors, truth, r, &why)) << why;
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
   EXPECT_TRUE(r.summary.unidentifiable.empty()) << r.summary.unidentifiable[0].reason;
 }

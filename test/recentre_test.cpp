@@ -21,7 +21,7 @@ TEST(Recentre, AFingerTipsMotionBeyondItsLimitIsShiftedBackIntoThem) {
   const auto [truth, r] = test::replayBasinTruth(robot, test::Variant::kPartialSwings, 4,
                                                  LossKind::kHuber, CalibrationOptions(), 2);
   std::string why;
-  EXPECT_TRUE(test::closeToTruth(robot.model, robot.truth.sensors, truth, r, &why)) << why;
+  EXPECT_TRUE(test::closeToTruth(robot.truth.sensors, truth, r, &why)) << why;
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }
 

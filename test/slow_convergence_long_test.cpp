@@ -23,7 +23,7 @@ TEST(SlowConvergence, ACrawlThatConvergesInAWrongMinimumIsSuspect) {
   const auto [truth, r] =
       test::replayBasinTruth(robot, test::Variant::kPartialSwings, 10, LossKind::kHuber, o);
   std::string why;
-  if (test::closeToTruth(robot.model, robot.truth.sensors, truth, r, &why)) {
+  if (test::closeToTruth(robot.truth.sensors, truth, r, &why)) {
     EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];  // reached: no false alarm
     return;
   }

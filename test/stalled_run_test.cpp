@@ -21,7 +21,7 @@ TEST(StalledRun, AHandStalledInAWrongThumbMinimumIsEscapedFrom) {
   const test::Robot robot = test::bundledRobot("hand24", 500);
   const auto [truth, r] = test::replayBasinTruth(robot, test::Variant::kPartialSwings, 7);
   std::string why;
-  EXPECT_TRUE(test::closeToTruth(robot.model, robot.truth.sensors, truth, r, &why)) << why;
+  EXPECT_TRUE(test::closeToTruth(robot.truth.sensors, truth, r, &why)) << why;
   EXPECT_TRUE(r.summary.converged);
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }

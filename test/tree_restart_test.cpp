@@ -24,7 +24,7 @@ TEST(TreeRestart, AMirroredDoublePendulumIsRestartedInTreeOrder) {
   const SensorSet& sensors = pendulum.truth.sensors;
   const auto [truth, r] = test::replayBasinTruth(pendulum, test::Variant::kPartialSwings, 4);
   std::string why;
-  EXPECT_TRUE(test::closeToTruth(pendulum.model, sensors, truth, r, &why)) << why;
+  EXPECT_TRUE(test::closeToTruth(sensors, truth, r, &why)) << why;
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
   for (size_t j = 0; j < sensors.joint_sensors.size(); ++j)
     EXPECT_GT(r.theta.joint_sensor[j].gain * truth.joint_sensor[j].gain, 0) << j;

@@ -198,6 +198,70 @@ TEST(TurnAmbiguity, NotForAHeldBiasOrLimitsWithinATurn) {
           .empty());
 }
 
+// arm4 with its first joint continuous (no limits).
+RobotModel arm4ContinuousBase() {
+  std::string urdf = test::kArmUrdf;
+  const std::string j1 = R"(<joint name="j1" type="revolute">)";
+  urdf.replace(urdf.find(j1), j1.size(), R"(<joint name="j1" type="continuous">)");
+  return RobotModel::fromString(urdf, "arm4_continuous_base");
+}
+
+// A continuous joint's pots are written with the bias nearest zero (within
+// half a turn), the joint's angles moved by the same turns; a revolute
+// joint and a held bias are left as they are.
+TEST(TurnAmbiguity, AContinuousJointsBiasIsWrittenWithinHalfATurnOfZero) {
+  const RobotModel robot = arm4ContinuousBase();
+  SensorsFile f = parseSensorsYaml(test::kArmTruth, "arm4_truth", robot);
+  auto twoTurnsOff = [&](SensorParameters* theta, RowMatrix* q) {
+    *theta = f.theta;
+    *q = RowMatrix::Constant(3, robot.dof(), 0.2);
+    for (int s : {0, 1}) {  // p = g·q + b = g·(q − 4π) + (b + 4π·g)
+      theta->joint_sensor[s].bias += 4 * M_PI * theta->joint_sensor[s].gain;
+      q->col(s).array() -= 4 * M_PI;
+    }
+  };
+  SensorParameters theta;
+  RowMatrix q;
+  twoTurnsOff(&theta, &q);
+  const MeasurementModel model(robot, f.sensors);
+  nearestTurnForContinuousJoints(model, &theta, &q);
+  EXPECT_NEAR(theta.joint_sensor[0].bias, f.theta.joint_sensor[0].bias, 1e-12);
+  EXPECT_NEAR(q(2, 0), 0.2, 1e-12);
+  EXPECT_NEAR(theta.joint_sensor[1].bias, f.theta.joint_sensor[1].bias + 4 * M_PI * 2.1, 1e-12);
+  EXPECT_NEAR(q(2, 1), 0.2 - 4 * M_PI, 1e-12);  // j2 is revolute
+  f.sensors.joint_sensors[0].fixed.bias = true;
+  const MeasurementModel held(robot, f.sensors);
+  twoTurnsOff(&theta, &q);
+  nearestTurnForContinuousJoints(held, &theta, &q);
+  EXPECT_NEAR(q(2, 0), 0.2 - 4 * M_PI, 1e-12);
+}
+
+// Through the whole calibration: started a turn off on the continuous
+// joint (the same fit), the result is written nearest zero, where the
+// truth's bias is, within its std. Before, it stayed a turn off with a
+// sharp std: a confident wrong number to anyone comparing biases.
+TEST(TurnAmbiguity, ACalibrationAWholeTurnOffIsWrittenNearestZero) {
+  const RobotModel robot = arm4ContinuousBase();
+  const SensorsFile f = parseSensorsYaml(test::kArmTruth, "arm4_truth", robot);
+  const MeasurementModel model(robot, f.sensors);
+  std::mt19937_64 rng(11);
+  RowMatrix q = simulateMotion(robot, 300, 100.0, rng);
+  SimulationOptions so;
+  so.frames = 300;
+  const Observations obs =
+      bindLog(simulateLog(model, f.theta, q, so, rng).log, f.sensors, "arm4", 1.0);
+  SensorParameters start = f.theta;
+  start.joint_sensor[0].bias += 2 * M_PI * start.joint_sensor[0].gain;
+  q.col(0).array() -= 2 * M_PI;
+  CalibrationOptions o;
+  o.threads = 2;
+  const CalibrationResult r = calibrate(robot, f.sensors, start, obs, o, nullptr, &q);
+  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
+  EXPECT_NEAR(r.theta.joint_sensor[0].bias, f.theta.joint_sensor[0].bias,
+              4 * r.std.joint_sensor[0].bias);
+  EXPECT_TRUE(std::isfinite(r.std.joint_sensor[0].bias));
+}
+
 // The whole calibration from the paper's seeding reaches the truth, up to
 // the turns it reports.
 TEST(TreeSearch, CalibrationOfPartialSwingsReachesTheTruthModuloReportedTurns) {
@@ -217,8 +281,16 @@ TEST(TreeSearch, CalibrationOfPartialSwingsReachesTheTruthModuloReportedTurns) {
                                             ".bias";
     double e = got.bias - truth.bias;
     const double turn = 2 * M_PI * std::abs(truth.gain);
-    if (modulo_turn) e -= turn * std::round(e / turn);
-    EXPECT_NEAR(e, 0.0, 5 * r.std.joint_sensor[s].bias + 1e-3) << s;
+    if (!modulo_turn) {
+      EXPECT_NEAR(e, 0.0, 5 * r.std.joint_sensor[s].bias + 1e-3) << s;
+      continue;
+    }
+    // Listed: no std (it is known only modulo a turn), and right modulo it
+    // to a tenth of a radian or two (the last joint's bias, which trades
+    // against the markers on its link, was 0.09 off with a local std of
+    // 0.02 or more; a wrong minimum is radians off).
+    EXPECT_TRUE(std::isinf(r.std.joint_sensor[s].bias)) << s;
+    EXPECT_NEAR(e - turn * std::round(e / turn), 0.0, 0.2) << s;
   }
 }
 

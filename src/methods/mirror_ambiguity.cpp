@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "methods/wide_basin.hpp"
 
@@ -20,11 +22,20 @@ std::string jointList(const RobotModel& robot, const std::vector<PotGuess>& gues
   return out;
 }
 
-// Whether the move changes some pot's gain or bias by more than 4 std
-// (a change within them is the same answer).
-bool changesBeyondStd(const GainBias& before, const GainBias& after, const GainBias& sd) {
-  return std::abs(after.gain - before.gain) > 4 * sd.gain ||
-         std::abs(after.bias - before.bias) > 4 * sd.bias;
+// The parameters whose re-fitted values differ by more than 4 std (a
+// change within them is the same answer): the pots the jump mirrors and
+// turns, and the markers on the links in between, which move with them.
+// Named per entry (ThetaSpace::names), as summary.unidentifiable names them.
+std::vector<std::string> movedParameters(const ThetaSpace& space, const SensorParameters& before,
+                                         const SensorParameters& after,
+                                         const Eigen::VectorXd& std) {
+  const Eigen::VectorXd d = space.minus(after, before);
+  std::vector<std::string> out;
+  for (int i = 0; i < space.size(); ++i) {
+    if (!space.free()[i] || !(std::abs(d[i]) > 4 * std[i])) continue;
+    out.push_back(space.names()[i]);
+  }
+  return out;
 }
 
 }  // namespace
@@ -33,36 +44,24 @@ std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
                                                        const Observations& obs,
                                                        const SensorParameters& theta,
                                                        const NoiseModel& noise, const RowMatrix& q,
-                                                       const ParameterStd& std) {
+                                                       const Eigen::VectorXd& std) {
   std::vector<UnidentifiableDirection> out;
   const MeasurementModel& model = problem.model;
-  if (q.rows() == 0 || !q.allFinite() || model.sensors().joint_sensors.empty()) return out;
+  if (q.rows() == 0 || !q.allFinite() || model.sensors().joint_sensors.empty() ||
+      std.size() != model.thetaSpace().size())
+    return out;
   Workspaces ws = makeWorkspaces(model, problem.threads);
   const WideBasin basin(model, obs, noise, problem.loss, problem.threads, &ws, theta, false);
   Estimate est;
   est.theta = theta;
   est.state.q = q;
   const std::vector<PotGuess>& guesses = basin.guesses();
-  const SensorSet& sensors = model.sensors();
-  for (const MinimumMove& move : basin.equivalentMoves(est)) {
-    SensorParameters moved = theta;
-    RowMatrix moved_q = q;
-    applyMove(model.robot(), guesses, move, &moved, &moved_q, true);
+  SensorParameters refitted;
+  for (const WideBasin::EquivalentMove& same : basin.equivalentMoves(est, &refitted)) {
+    const MinimumMove& move = same.move;
     UnidentifiableDirection d;
-    bool changes = false;
-    for (const std::vector<int>* part : {&move.flip, &move.half_turn})
-      for (int i : *part) {
-        const int s = guesses[i].sensor;
-        changes |= changesBeyondStd(theta.joint_sensor[s], moved.joint_sensor[s],
-                                    std.joint_sensor[s]);
-        const std::string name = "joint_sensors." + sensors.joint_sensors[s].name;
-        if (part == &move.flip) d.parameters.push_back(name + ".gain");
-        // (A joint both mirrored and turned, the roll flip's pitch: once.)
-        if (std::find(d.parameters.begin(), d.parameters.end(), name + ".bias") ==
-            d.parameters.end())
-          d.parameters.push_back(name + ".bias");
-      }
-    if (!changes) continue;
+    d.parameters = movedParameters(model.thetaSpace(), refitted, same.theta, std);
+    if (d.parameters.empty()) continue;
     std::string what;
     if (!move.half_turn.empty())
       what = jointList(model.robot(), guesses, move.half_turn) + " half a turn away";
@@ -71,7 +70,7 @@ std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
               " mirrored";
     d.reason = "the readings fit as well with " + what +
                " (a mirror configuration: the markers on the links in between move with them), "
-               "so the pots' gains and biases listed have two equally good values; hold a "
+               "so the parameters listed have two equally good values; hold a "
                "marker on one of those links at its known position, or log poses near the "
                "joints' limits";
     out.push_back(std::move(d));

@@ -18,12 +18,13 @@
 namespace stac {
 
 // One entry per jump from (theta, q) that fits `obs` as well
-// (WideBasin::equivalentMoves) and moves some pot's gain or bias by more
-// than 4 of its std (`std`: theta's); `noise` the calibrated σ.
+// (WideBasin::equivalentMoves) and moves some parameter by more than 4 of
+// its std (`std`: theta's, indexed by ThetaSpace), listing every parameter
+// it so moves; `noise` the calibrated σ.
 std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
                                                        const Observations& obs,
                                                        const SensorParameters& theta,
                                                        const NoiseModel& noise, const RowMatrix& q,
-                                                       const ParameterStd& std);
+                                                       const Eigen::VectorXd& std);
 
 }  // namespace stac

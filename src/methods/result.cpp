@@ -1,6 +1,7 @@
 // The one place that turns a method's Outcome into a CalibrationResult.
 #include <algorithm>
 #include <chrono>
+#include <limits>
 
 
 #include "methods/method.hpp"
@@ -57,6 +58,22 @@ std::vector<OriginDetermination> originDetermination(const ThetaSpace& space,
   return out;
 }
 
+// Every parameter summary.unidentifiable names gets an infinite std: a
+// value the data cannot determine (a null direction of the information, a
+// bias known only modulo a turn, one of two mirror configurations) is never
+// returned as a confident number (SPEC §3). A mirror's gains, biases and
+// markers kept their sharp local std before, and a wrong one of the two
+// read as a confident answer.
+void undeterminedStd(const ThetaSpace& space, const std::vector<UnidentifiableDirection>& listed,
+                     Eigen::VectorXd* std) {
+  if (std->size() != space.size()) return;
+  for (int i = 0; i < space.size(); ++i)
+    for (const UnidentifiableDirection& d : listed)
+      if (std::find(d.parameters.begin(), d.parameters.end(), space.names()[i]) !=
+          d.parameters.end())
+        (*std)[i] = std::numeric_limits<double>::infinity();
+}
+
 }  // namespace
 
 CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* joint_angles) {
@@ -64,8 +81,8 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   const MeasurementModel& model = problem.model;
   CalibrationResult result;
   result.sensors = withFinalNoise(model.sensors(), out);
+  nearestTurnForContinuousJoints(model, &out.theta, &out.q);
   result.theta = out.theta;
-  result.std = model.thetaSpace().toParameterStd(out.uncertainty.std);
   // Statistics over the frames the method fitted.
   const bool all = out.fitted_frames.empty();
   const Observations subset = all ? Observations() : selectFrames(problem.obs, out.fitted_frames);
@@ -93,8 +110,11 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   for (UnidentifiableDirection& d : turnAmbiguities(model, result.theta, out.q))
     summary.unidentifiable.push_back(std::move(d));
   for (UnidentifiableDirection& d :
-       mirrorAmbiguities(problem, fitted, result.theta, out.noise, q, result.std))
+       mirrorAmbiguities(problem, fitted, result.theta, out.noise, q, out.uncertainty.std))
     summary.unidentifiable.push_back(std::move(d));
+  Eigen::VectorXd std = out.uncertainty.std;
+  undeterminedStd(model.thetaSpace(), summary.unidentifiable, &std);
+  result.std = model.thetaSpace().toParameterStd(std);
   if (out.uncertainty.std.size() == model.thetaSpace().size())
     summary.origins = originDetermination(model.thetaSpace(), out.uncertainty.std);
   summary.downweighted = downweightedReadings(problem.on(fitted), result.theta, out.noise, q,

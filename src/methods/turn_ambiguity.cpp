@@ -55,4 +55,50 @@ std::vector<UnidentifiableDirection> turnAmbiguities(const MeasurementModel& mod
   return out;
 }
 
+namespace {
+
+// Whether turning q's column j by whole turns changes nothing but the
+// biases of the pots on it (see nearestTurnForContinuousJoints).
+bool turnsFreely(const MeasurementModel& model, int j) {
+  const RobotModel& robot = model.robot();
+  bool master = false;
+  for (const MovableJoint& mj : robot.movableJoints()) {
+    if (mj.q_index != j) continue;
+    if (mj.is_mimic || mj.type != JointType::kContinuous) return false;
+    master = true;
+  }
+  if (!master) return false;
+  const SensorSet& sensors = model.sensors();
+  for (const JointSensorConfig& sc : sensors.joint_sensors)
+    if (robot.movableJoints()[sc.joint].q_index == j && sc.fixed.bias) return false;
+  for (const TendonSensorConfig& t : sensors.tendon_sensors)
+    for (const CouplingTerm& c : t.coupling)
+      if (robot.movableJoints()[c.joint].q_index == j) return false;
+  return true;
+}
+
+}  // namespace
+
+void nearestTurnForContinuousJoints(const MeasurementModel& model, SensorParameters* theta,
+                                    RowMatrix* q) {
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  std::vector<bool> done(model.dof(), false);
+  for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
+    const int j = robot.movableJoints()[sensors.joint_sensors[s].joint].q_index;
+    if (done[j]) continue;
+    done[j] = true;
+    const GainBias& pot = theta->joint_sensor[s];
+    const double turn = 2 * M_PI * pot.gain;  // the bias's change per turn of q
+    if (!(std::abs(turn) > 0) || !std::isfinite(pot.bias) || !turnsFreely(model, j)) continue;
+    const double k = std::round(pot.bias / turn);
+    if (k == 0) continue;
+    // p = g·q + b = g·(q + 2πk) + (b − 2πk·g), for every pot on the joint.
+    for (size_t o = 0; o < sensors.joint_sensors.size(); ++o)
+      if (robot.movableJoints()[sensors.joint_sensors[o].joint].q_index == j)
+        theta->joint_sensor[o].bias -= 2 * M_PI * k * theta->joint_sensor[o].gain;
+    if (q && q->rows() > 0) q->col(j).array() += 2 * M_PI * k;
+  }
+}
+
 }  // namespace stac

@@ -22,4 +22,15 @@ std::vector<UnidentifiableDirection> turnAmbiguities(const MeasurementModel& mod
                                                      const SensorParameters& theta,
                                                      const RowMatrix& q);
 
+// A continuous joint is the same at q and q + 2πk, so its pots' biases are
+// known only modulo 2π·gain, and which turn a calibration ends on is an
+// accident of the start. Each is written as the one nearest zero, within
+// half a turn (|bias| <= π·|gain|: the pot reads about zero near the
+// joint's zero), the angles of that joint (q's column) moved by the same
+// turns. Joints whose turns something else sees are left as they are: a
+// pot with a held bias, a mimic follower (moved by multiplier·2πk), a
+// coupling tendon (its length sums the angles).
+void nearestTurnForContinuousJoints(const MeasurementModel& model, SensorParameters* theta,
+                                    RowMatrix* q);
+
 }  // namespace stac

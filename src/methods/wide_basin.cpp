@@ -472,26 +472,30 @@ bool withinLimits(const std::vector<PotGuess>& guesses, const MinimumMove& move,
 }
 }  // namespace
 
-std::vector<MinimumMove> WideBasin::equivalentMoves(const Estimate& est) const {
+std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
+    const Estimate& est, SensorParameters* refitted) const {
   Eigen::VectorXd lower, upper;
   widenedLimits(model_.robot(), &lower, &upper);
   ThetaPhaseOptions to;
   to.threads = threads_;
   // The cost with θ re-fitted in closed form at the angles of `state`.
-  auto refitCost = [&](SensorParameters theta, QState state) {
-    thetaPhase(model_, noise_, loss_, sub_, state, to, ws_, &theta);
-    return totalCost(model_, theta, noise_, loss_, sub_, FrameOptions(), threads_, ws_, &state);
+  auto refitCost = [&](SensorParameters* theta, QState state) {
+    thetaPhase(model_, noise_, loss_, sub_, state, to, ws_, theta);
+    return totalCost(model_, *theta, noise_, loss_, sub_, FrameOptions(), threads_, ws_, &state);
   };
   QState sub;
   sub.q = subsampleAngles(est.state.q);
-  const double base = refitCost(est.theta, sub);
-  std::vector<MinimumMove> out;
+  SensorParameters base_theta = est.theta;
+  const double base = refitCost(&base_theta, sub);
+  if (refitted) *refitted = base_theta;
+  std::vector<EquivalentMove> out;
   for (const MinimumMove& move : minimumMoves(model_.robot(), guesses_, moves_)) {
     SensorParameters theta = est.theta;
     QState moved = sub;
     moveTo(move, true, sub_, &theta, &moved);
     if (!withinLimits(guesses_, move, moved.q, lower, upper)) continue;
-    if (refitCost(std::move(theta), std::move(moved)) <= (1 + kSameFit) * base) out.push_back(move);
+    if (refitCost(&theta, std::move(moved)) <= (1 + kSameFit) * base)
+      out.push_back({move, std::move(theta)});
   }
   return out;
 }

@@ -329,8 +329,15 @@ class WideBasin {
   // The jumps of minimumMoves from est that keep every angle within the
   // q-phase's limits and fit the subsample as well as est (cost within
   // kSameFit), θ re-fitted in closed form at the moved angles: other
-  // configurations the data cannot tell from est's.
-  std::vector<MinimumMove> equivalentMoves(const Estimate& est) const;
+  // configurations the data cannot tell from est's. Each with its re-fitted
+  // θ; `refitted` (if given) gets est's own θ re-fitted on the same
+  // subsample, what the moved θ are to be compared with.
+  struct EquivalentMove {
+    MinimumMove move;
+    SensorParameters theta;
+  };
+  std::vector<EquivalentMove> equivalentMoves(const Estimate& est,
+                                              SensorParameters* refitted = nullptr) const;
 
  private:
   // How refinedCost's coupled steps move the pots' maps. The escape's

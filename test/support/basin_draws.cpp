@@ -85,9 +85,8 @@ SensorParameters paperSeed(const SensorSet& s, const SensorParameters& truth) {
   return seed;
 }
 
-bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParameters& truth,
-                  const CalibrationResult& r, std::string* why,
-                  std::vector<double>* z) {
+bool withinReportedStd(const SensorSet& s, const SensorParameters& truth,
+                       const CalibrationResult& r, std::string* why, std::vector<double>* z) {
   const double k = 4.0;
   auto off = [&](double error, double sd, const std::string& what) {
     if (z && sd > 0 && std::isfinite(sd)) z->push_back(error / sd);
@@ -99,11 +98,6 @@ bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParam
     *why = what + ": " + std::to_string(error) + " off the truth (std " + std::to_string(sd) + ")";
     return true;
   };
-  std::vector<std::string> modulo_turn;
-  for (const UnidentifiableDirection& u : r.summary.unidentifiable) {
-    if (u.reason.find("modulo a turn") == std::string::npos) return *why = u.reason, false;
-    modulo_turn.push_back(u.parameters[0]);
-  }
   const ThetaSpace space(s);
   const Eigen::VectorXd d = space.minus(r.theta, truth);
   if (off(d.segment<3>(ThetaSpace::kRotationOffset).norm(), r.std.mocap_rotation.norm(),
@@ -117,17 +111,8 @@ bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParam
   for (size_t j = 0; j < s.joint_sensors.size(); ++j) {
     const std::string n = "joint sensor " + s.joint_sensors[j].name;
     const int o = space.jointOffset(static_cast<int>(j));
-    double bias = d[o + 1];
-    const bool turn_reported = std::find(modulo_turn.begin(), modulo_turn.end(),
-                                         "joint_sensors." + s.joint_sensors[j].name + ".bias") !=
-                               modulo_turn.end();
-    if (turn_reported ||
-        robot.movableJoints()[s.joint_sensors[j].joint].type == JointType::kContinuous) {
-      const double turn = 2 * M_PI * std::abs(truth.joint_sensor[j].gain);
-      bias -= turn * std::round(bias / turn);
-    }
     if (off(d[o], r.std.joint_sensor[j].gain, n + " gain") ||
-        off(bias, r.std.joint_sensor[j].bias, n + " bias"))
+        off(d[o + 1], r.std.joint_sensor[j].bias, n + " bias"))
       return false;
   }
   for (size_t j = 0; j < s.tendon_sensors.size(); ++j) {
@@ -138,6 +123,13 @@ bool closeToTruth(const RobotModel& robot, const SensorSet& s, const SensorParam
       return false;
   }
   return true;
+}
+
+bool closeToTruth(const SensorSet& s, const SensorParameters& truth, const CalibrationResult& r,
+                  std::string* why, std::vector<double>* z) {
+  for (const UnidentifiableDirection& u : r.summary.unidentifiable)
+    if (u.reason.find("modulo a turn") == std::string::npos) return *why = u.reason, false;
+  return withinReportedStd(s, truth, r, why, z);
 }
 
 Robot bundledRobot(const std::string& name, int frames) {
