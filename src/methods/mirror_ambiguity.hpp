@@ -18,7 +18,7 @@
 namespace stac {
 
 // One entry per jump from (theta, q) that fits `obs` as well
-// (WideBasin::equivalentMoves) and moves some parameter by more than 4 of
+// (WideBasin::equivalentMoves) and moves some parameter by more than 3 of
 // its std (`std`: theta's, indexed by ThetaSpace), listing every parameter
 // it so moves; `noise` the calibrated σ.
 std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,

@@ -283,7 +283,9 @@ void WideBasin::alternate(double pot_weight, double tol, Estimate* est) const {
 }
 
 // A candidate's worth: the cost after a few alternations on the subsample.
-double WideBasin::refinedCost(SensorParameters th, QState st, PotSteps pots) const {
+double WideBasin::refine(SensorParameters* theta, QState* state, PotSteps pots) const {
+  SensorParameters& th = *theta;
+  QState& st = *state;
   QPhaseOptions qo;
   qo.method = QPhaseMethod::kLmIter;
   qo.threads = threads_;
@@ -487,16 +489,24 @@ std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
   sub.q = subsampleAngles(est.state.q);
   SensorParameters base_theta = est.theta;
   const double base = refitCost(&base_theta, sub);
-  if (refitted) *refitted = base_theta;
+  // est refined as the jumps are, once one is near enough to be refined.
+  SensorParameters refined_base = est.theta;
+  double refined_base_cost = -1;
   std::vector<EquivalentMove> out;
   for (const MinimumMove& move : minimumMoves(model_.robot(), guesses_, moves_)) {
     SensorParameters theta = est.theta;
     QState moved = sub;
     moveTo(move, true, sub_, &theta, &moved);
     if (!withinLimits(guesses_, move, moved.q, lower, upper)) continue;
-    if (refitCost(&theta, std::move(moved)) <= (1 + kSameFit) * base)
+    if (!(refitCost(&theta, moved) <= kNearMirror * base)) continue;
+    if (refined_base_cost < 0) {
+      QState state = sub;
+      refined_base_cost = refine(&refined_base, &state);
+    }
+    if (refine(&theta, &moved) <= (1 + kSameFit) * refined_base_cost)
       out.push_back({move, std::move(theta)});
   }
+  if (refitted) *refitted = refined_base_cost < 0 ? base_theta : refined_base;
   return out;
 }
 

@@ -28,6 +28,11 @@ constexpr int kInitFrames = 1000;
 // share (an exact symmetry differs by rounding; the wrong minima of the
 // basin test by 15% and more).
 constexpr double kSameFit = 1e-3;
+// A jump whose closed-form fit is within this factor of the estimate's is
+// refined before it is judged (WideBasin::equivalentMoves): an unseen
+// Kinova Jaco's shoulder mirror, inexact by the arm's 1.6 and 11 mm
+// offsets, fit 1.13x so and, refined, 0.06% below the estimate.
+constexpr double kNearMirror = 2.0;
 // A jump to another minimum is taken when its cost, after a few steps only,
 // is below the converged one's by more than kSameFit: it can only fall
 // further. Not by more: under gross outliers the robust loss's linear tails
@@ -328,9 +333,12 @@ class WideBasin {
                                                  const std::vector<int>& at_limits = {}) const;
   // The jumps of minimumMoves from est that keep every angle within the
   // q-phase's limits and fit the subsample as well as est (cost within
-  // kSameFit), θ re-fitted in closed form at the moved angles: other
-  // configurations the data cannot tell from est's. Each with its re-fitted
-  // θ; `refitted` (if given) gets est's own θ re-fitted on the same
+  // kSameFit) once refined, angles and θ (refine): other configurations
+  // the data cannot tell from est's. Only jumps that fit within
+  // kNearMirror of est with θ re-fitted in closed form at the moved angles
+  // are refined: an exact mirror fits as well at once, one made inexact by
+  // a small offset in the chain only once its angles follow. Each with its
+  // refined θ; `refitted` (if given) gets est's own θ refined on the same
   // subsample, what the moved θ are to be compared with.
   struct EquivalentMove {
     MinimumMove move;
@@ -348,9 +356,13 @@ class WideBasin {
   // (gain, bias) too: in the chart it sent a ur5 with continuous joints
   // (basin truth 1) to a wrong minimum, the wrist_2 pot's gain 0.58 off.
   enum class PotSteps { kGainBias, kInverseCharts };
-  // The cost after a few alternations and coupled steps on the subsample.
+  // The cost after a few alternations and coupled steps on the subsample;
+  // refine leaves the refined θ and angles in place.
   double refinedCost(SensorParameters theta, QState state,
-                     PotSteps pots = PotSteps::kGainBias) const;
+                     PotSteps pots = PotSteps::kGainBias) const {
+    return refine(&theta, &state, pots);
+  }
+  double refine(SensorParameters* theta, QState* state, PotSteps pots = PotSteps::kGainBias) const;
   // Rows sub_frames_ of q (every frame of obs).
   RowMatrix subsampleAngles(const RowMatrix& q) const;
   // applyMove on `state` (frames of `obs`: the subsample's or the log's);
