@@ -59,49 +59,58 @@ TEST(MirrorAmbiguity, TheWristFlipFitsAlikeWithTheMiddleMarkersFree) {
   EXPECT_EQ(same[0].move.half_turn, (std::vector<int>{0, 2}));
 }
 
-// The same chain with j2 straight at π (its origin turned half a turn about
-// its axis, its limits π ± 1.5), as the Kinova Jaco's wrist joint 5: the
-// mirror is q2 -> 2π − q2, within the limits, where −q2 is not (it was
-// missed, and four of ten random Jaco truths ended in the flip, silent).
-TEST(MirrorAmbiguity, AJointStraightAtHalfATurnMirrorsAboutIt) {
+// test::chainUrdf() with `from` replaced by `to` (an empty string if
+// `from` is not there).
+std::string editedChain(const std::string& from, const std::string& to) {
   std::string urdf = test::chainUrdf();
-  const std::string j2 =
-      R"(<origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5")";
-  ASSERT_NE(urdf.find(j2), std::string::npos);
-  urdf.replace(urdf.find(j2), j2.size(),
-               R"(<origin xyz="0 0 0.1" rpy="0 3.141592653589793 0"/><axis xyz="0 1 0"/>)"
-               R"(<limit lower="1.6415926535897931" upper="4.6415926535897931")");
+  const size_t at = urdf.find(from);
+  if (at == std::string::npos) return "";
+  return urdf.replace(at, from.size(), to);
+}
+
+// The truth's jumps that fit as well on a log of the chain `urdf` with j1
+// and j3 over [-0.5, 0.7] (half a turn away fits too); *q the log's angles.
+std::vector<WideBasin::EquivalentMove> equivalentFromTheTruth(const std::string& urdf,
+                                                              RowMatrix* q) {
   const RobotModel robot = RobotModel::fromString(urdf, "chain4");
   const SensorsFile truth = parseSensorsYaml(test::chainTruthYaml(false), "chain truth", robot);
   const MeasurementModel model(robot, truth.sensors);
   std::mt19937_64 rng(3);
-  RowMatrix q = simulateMotion(robot, 400, 100.0, rng);
-  for (int c : {0, 2}) {  // j1 and j3 over [-0.5, 0.7]: half a turn away fits too
-    const double lo = q.col(c).minCoeff(), hi = q.col(c).maxCoeff();
-    q.col(c) = ((q.col(c).array() - lo) * (1.2 / (hi - lo)) - 0.5).matrix();
+  *q = simulateMotion(robot, 400, 100.0, rng);
+  for (int c : {0, 2}) {
+    const double lo = q->col(c).minCoeff(), hi = q->col(c).maxCoeff();
+    q->col(c) = ((q->col(c).array() - lo) * (1.2 / (hi - lo)) - 0.5).matrix();
   }
-  ASSERT_GT(q.col(1).minCoeff(), 1.6);  // j2 near π, as its limits say
   SimulationOptions so;
   so.frames = 400;
   const Observations obs =
-      bindLog(simulateLog(model, truth.theta, q, so, rng).log, truth.sensors, "chain", 1.0);
+      bindLog(simulateLog(model, truth.theta, *q, so, rng).log, truth.sensors, "chain", 1.0);
   const NoiseModel noise = NoiseModel::fromSeeds(truth.sensors);
   const RobustLoss loss;
   Workspaces ws = makeWorkspaces(model, 2);
   const WideBasin basin(model, obs, noise, loss, 2, &ws, truth.theta, false);
   Estimate est;
   est.theta = truth.theta;
-  est.state.q = q;
-  const std::vector<WideBasin::EquivalentMove> same = basin.equivalentMoves(est);
+  est.state.q = *q;
+  return basin.equivalentMoves(est);
+}
+
+// The same chain with j2 straight at π (its origin turned half a turn about
+// its axis, its limits π ± 1.5), as the Kinova Jaco's wrist joint 5: the
+// mirror is q2 -> 2π − q2, within the limits, where −q2 is not (it was
+// missed, and four of ten random Jaco truths ended in the flip, silent).
+TEST(MirrorAmbiguity, AJointStraightAtHalfATurnMirrorsAboutIt) {
+  const std::string urdf =
+      editedChain(R"(<origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5")",
+                  R"(<origin xyz="0 0 0.1" rpy="0 3.141592653589793 0"/><axis xyz="0 1 0"/>)"
+                  R"(<limit lower="1.6415926535897931" upper="4.6415926535897931")");
+  ASSERT_FALSE(urdf.empty());
+  RowMatrix q;
+  const std::vector<WideBasin::EquivalentMove> same = equivalentFromTheTruth(urdf, &q);
+  ASSERT_GT(q.col(1).minCoeff(), 1.6);  // j2 near π, as its limits say
   ASSERT_EQ(same.size(), 1u);
   EXPECT_EQ(same[0].move.flip, std::vector<int>{1});
   EXPECT_EQ(same[0].move.half_turn, (std::vector<int>{0, 2}));
-}
-
-bool lists(const std::vector<UnidentifiableDirection>& dirs, const std::string& parameter) {
-  return std::any_of(dirs.begin(), dirs.end(), [&](const UnidentifiableDirection& d) {
-    return std::find(d.parameters.begin(), d.parameters.end(), parameter) != d.parameters.end();
-  });
 }
 
 // A mirror made inexact by an offset in the chain (j3's axis 0.5 mm off
@@ -111,34 +120,20 @@ bool lists(const std::vector<UnidentifiableDirection>& dirs, const std::string& 
 // mirror, the mocap rotation 5 std off, verdict ok); refined, 0.07%. (At
 // 1 mm here the refined fit is 0.2% worse: told apart.)
 TEST(MirrorAmbiguity, AMirrorMadeInexactByAnOffsetIsFoundOnceRefined) {
-  std::string urdf = test::chainUrdf();
-  const std::string j3 = R"(<origin xyz="0 0 0.3"/>)";
-  ASSERT_NE(urdf.find(j3), std::string::npos);
-  urdf.replace(urdf.find(j3), j3.size(), R"(<origin xyz="0.0005 0 0.3"/>)");
-  const RobotModel robot = RobotModel::fromString(urdf, "chain4");
-  const SensorsFile truth = parseSensorsYaml(test::chainTruthYaml(false), "chain truth", robot);
-  const MeasurementModel model(robot, truth.sensors);
-  std::mt19937_64 rng(3);
-  RowMatrix q = simulateMotion(robot, 400, 100.0, rng);
-  for (int c : {0, 2}) {  // j1 and j3 over [-0.5, 0.7]: half a turn away fits too
-    const double lo = q.col(c).minCoeff(), hi = q.col(c).maxCoeff();
-    q.col(c) = ((q.col(c).array() - lo) * (1.2 / (hi - lo)) - 0.5).matrix();
-  }
-  SimulationOptions so;
-  so.frames = 400;
-  const Observations obs =
-      bindLog(simulateLog(model, truth.theta, q, so, rng).log, truth.sensors, "chain", 1.0);
-  const NoiseModel noise = NoiseModel::fromSeeds(truth.sensors);
-  const RobustLoss loss;
-  Workspaces ws = makeWorkspaces(model, 2);
-  const WideBasin basin(model, obs, noise, loss, 2, &ws, truth.theta, false);
-  Estimate est;
-  est.theta = truth.theta;
-  est.state.q = q;
-  const std::vector<WideBasin::EquivalentMove> same = basin.equivalentMoves(est);
+  const std::string urdf =
+      editedChain(R"(<origin xyz="0 0 0.3"/>)", R"(<origin xyz="0.0005 0 0.3"/>)");
+  ASSERT_FALSE(urdf.empty());
+  RowMatrix q;
+  const std::vector<WideBasin::EquivalentMove> same = equivalentFromTheTruth(urdf, &q);
   ASSERT_EQ(same.size(), 1u);
   EXPECT_EQ(same[0].move.flip, std::vector<int>{1});
   EXPECT_EQ(same[0].move.half_turn, (std::vector<int>{0, 2}));
+}
+
+bool lists(const std::vector<UnidentifiableDirection>& dirs, const std::string& parameter) {
+  return std::any_of(dirs.begin(), dirs.end(), [&](const UnidentifiableDirection& d) {
+    return std::find(d.parameters.begin(), d.parameters.end(), parameter) != d.parameters.end();
+  });
 }
 
 // The pots the mirror moves and the markers of links 1 and 2, which move
@@ -172,19 +167,13 @@ TEST(MirrorAmbiguity, FromTheMirrorTheTruthIsWithinTheReportedStd) {
   const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
   const RobustLoss loss;
   Workspaces ws = makeWorkspaces(c.model, 2);
-  const WideBasin basin(c.model, c.obs, noise, loss, 2, &ws, c.truth.theta, false);
-  Estimate est;
-  est.theta = c.truth.theta;
-  est.state.q = c.q;
-  const std::vector<WideBasin::EquivalentMove> same = basin.equivalentMoves(est);
-  ASSERT_EQ(same.size(), 1u);
   // The mirror on every frame, θ re-fitted there in closed form.
   QState mirrored;
   mirrored.q = c.q;  // q1 + π, −q2, q3 + π
   mirrored.q.col(0).array() += M_PI;
   mirrored.q.col(1) *= -1.0;
   mirrored.q.col(2).array() += M_PI;
-  SensorParameters start = same[0].theta;
+  SensorParameters start = c.truth.theta;
   ThetaPhaseOptions to;
   to.threads = 2;
   thetaPhase(c.model, noise, loss, c.obs, mirrored, to, &ws, &start);
