@@ -86,8 +86,8 @@ SensorParameters paperSeed(const SensorSet& s, const SensorParameters& truth) {
 }
 
 bool withinReportedStd(const SensorSet& s, const SensorParameters& truth,
-                       const CalibrationResult& r, std::string* why, std::vector<double>* z) {
-  const double k = 4.0;
+                       const CalibrationResult& r, std::string* why, std::vector<double>* z,
+                       double k) {
   auto off = [&](double error, double sd, const std::string& what) {
     if (z && sd > 0 && std::isfinite(sd)) z->push_back(error / sd);
     const char* watch = std::getenv("STAC_BASIN_Z");  // a parameter's z, every truth

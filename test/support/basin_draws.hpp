@@ -40,13 +40,13 @@ SensorParameters randomTruth(const RobotModel& robot, const SensorSet& s,
 // origins, the mocap frame identity; fixed parameters as in `truth`.
 SensorParameters paperSeed(const SensorSet& s, const SensorParameters& truth);
 
-// The criterion: every estimated parameter within 4 of its
+// The criterion: every estimated parameter within k (4) of its
 // reported standard deviations of the truth (a wrong local minimum is off
 // by tens or hundreds; a parameter the result reports undetermined has an
 // infinite std, and passes). z: each finite std's error in it.
 bool withinReportedStd(const SensorSet& s, const SensorParameters& truth,
                        const CalibrationResult& r, std::string* why,
-                       std::vector<double>* z = nullptr);
+                       std::vector<double>* z = nullptr, double k = 4.0);
 // The truth itself, as a regression test wants it: within the reported std
 // and nothing reported undetermined (the seeds remove the gauges) but a
 // bias known only modulo a turn (turn_ambiguity.hpp).
