@@ -133,10 +133,8 @@ TEST(RedescendingCheck, ABiasKnownModuloATurnIsComparedModuloThatTurn) {
 // A pot's bias on a continuous joint is the same fit a whole turn away
 // (the markers see the joint only modulo a turn), listed or not.
 TEST(RedescendingCheck, AContinuousJointsPotBiasIsComparedModuloATurn) {
-  std::string urdf = test::kArmUrdf;
-  const std::string j1 = R"(<joint name="j1" type="revolute">)";
-  urdf.replace(urdf.find(j1), j1.size(), R"(<joint name="j1" type="continuous">)");
-  const RobotModel robot = RobotModel::fromString(urdf, "arm4_continuous_base");
+  const RobotModel robot =
+      RobotModel::fromString(test::armUrdfWithContinuousBase(), "arm4_continuous_base");
   const SensorsFile truth = parseSensorsYaml(test::kArmTruth, "arm4_truth", robot);
   const MeasurementModel model(robot, truth.sensors);
   const ThetaSpace& space = model.thetaSpace();

@@ -198,12 +198,8 @@ TEST(TurnAmbiguity, NotForAHeldBiasOrLimitsWithinATurn) {
           .empty());
 }
 
-// arm4 with its first joint continuous (no limits).
 RobotModel arm4ContinuousBase() {
-  std::string urdf = test::kArmUrdf;
-  const std::string j1 = R"(<joint name="j1" type="revolute">)";
-  urdf.replace(urdf.find(j1), j1.size(), R"(<joint name="j1" type="continuous">)");
-  return RobotModel::fromString(urdf, "arm4_continuous_base");
+  return RobotModel::fromString(test::armUrdfWithContinuousBase(), "arm4_continuous_base");
 }
 
 // A continuous joint's pots are written with the bias nearest zero (within

@@ -6,8 +6,9 @@
 // free to move with them and the log's motion fits within the limits
 // either way, both configurations fit the data exactly alike, each a sharp
 // minimum: the local std cannot show it, and the pots' gains and biases
-// have two equally good values. Such jumps (minimumMoves) are listed among
-// the parameters the data cannot determine.
+// (and the markers in between) have two equally good values. Such jumps
+// (minimumMoves) are listed among the parameters the data cannot
+// determine, which makeResult then gives no std.
 #pragma once
 
 #include <vector>

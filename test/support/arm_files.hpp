@@ -2,6 +2,8 @@
 // command-line tests.
 #pragma once
 
+#include <string>
+
 namespace stac::test {
 
 inline const char* kArmUrdf = R"(<robot name="arm4">
@@ -64,5 +66,12 @@ tendon_sensors:
       - {link: l1, point: [0.03, 0.02, 0.0]}
       - {link: l3, point: [0.05, 0.0, 0.03]}
 )";
+
+// kArmUrdf with its first joint continuous (no limits).
+inline std::string armUrdfWithContinuousBase() {
+  std::string urdf = kArmUrdf;
+  const std::string j1 = R"(<joint name="j1" type="revolute">)";
+  return urdf.replace(urdf.find(j1), j1.size(), R"(<joint name="j1" type="continuous">)");
+}
 
 }  // namespace stac::test
