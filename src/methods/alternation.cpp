@@ -161,6 +161,7 @@ LoopOutcome stacIterations(const Problem& problem, const CalibrationOptions& opt
       if (it == 1) std::fill(s->scales.last_step, s->scales.last_step + kNumSensorGroups, 0.0);
     }
     cost = st.cost;
+    out.trail.push(s->theta, s->scales);
     if (std::abs(rel) < options.tolerance && change < 1e-3) {
       out.converged = true;
       break;
@@ -640,7 +641,9 @@ Outcome stacRun(const MethodInput& in, bool* set_aside) {
   const Problem fitted = setGrossReadingsAside(in, &loop, &s, &ws, report, &kept);
   Outcome out = finishRun(fitted, &start, loop.st, &ws);
   out.iterations = loop.iterations;
-  out.converged = loop.converged;
+  out.converged = loop.converged ||
+                  (loop.iterations >= in.options.max_iterations &&
+                   settledWithinStd(problem.model.thetaSpace(), loop.trail, out.uncertainty.std));
   out.slow_convergence = slowConvergence(fitted, out);
   *set_aside = &fitted.obs != &problem.obs;
   return out;

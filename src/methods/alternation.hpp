@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "methods/method.hpp"
+#include "methods/settled_run.hpp"
 #include "solve/pass.hpp"
 
 namespace stac {
@@ -22,6 +23,7 @@ struct LoopOutcome {
   int iterations = 0;
   bool converged = false;
   bool paused = false;  // `pause` asked to stop
+  IterationTrail trail;  // θ and σ after the last iterations (settled_run.hpp)
 };
 
 // The alternation from `st` (the last pass at the current σ) until the
