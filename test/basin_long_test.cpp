@@ -144,7 +144,9 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
   Tally tally;
   if (!selected(robot.name, variantName(v))) return tally;
   const MeasurementModel model(robot.model, robot.truth.sensors);
-  std::mt19937_64 rng(2024);
+  // STAC_BASIN_TRUTH_SEED: other truths than the default draw's.
+  const char* truth_seed = std::getenv("STAC_BASIN_TRUTH_SEED");
+  std::mt19937_64 rng(truth_seed ? std::strtoull(truth_seed, nullptr, 10) : 2024);
   double z2 = 0, zn = 0;  // the reached truths' squared errors in std, and their count
   const char* pick = std::getenv("STAC_BASIN_PICK");  // one truth, by its index
   // Another draw of the motion and noise for the same truths (is a std honest?)
@@ -170,8 +172,9 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
                      r.stage.c_str(), r.iteration, r.cost, r.rms[0], r.rms[1], r.rms[2],
                      t.count());
       };
+    RowMatrix q_est;
     const CalibrationResult r = calibrate(robot.model, robot.truth.sensors,
-                                          paperSeed(robot.truth.sensors, truth), obs, o);
+                                          paperSeed(robot.truth.sensors, truth), obs, o, &q_est);
     std::string why;
     std::vector<double> z;  // every parameter's error in its reported std
     // Reached as the issue counts it: every parameter within 4 reported
@@ -229,6 +232,16 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
         std::printf(" %.4g/%.4g", r.summary.after_rms[g], rt.summary.after_rms[g]);
       std::printf(", iterations %d/%d, from truth: %s\n", r.summary.iterations, rt.summary.iterations,
                   rt.summary.unidentifiable.empty() ? "identifiable" : rt.summary.unidentifiable[0].reason.c_str());
+      // Per joint: the estimate's angles against the truth's (mean offset,
+      // and the slope of a fit estimate = a + slope truth: -1 a mirror).
+      for (int j = 0; j < robot.model.dof(); ++j) {
+        const Eigen::ArrayXd e = q_est.col(j).array(), t = sim.q.col(j).array();
+        const double te = t.mean(), ee = e.mean();
+        const double var = (t - te).square().sum();
+        const double slope = var > 0 ? ((t - te) * (e - ee)).sum() / var : 0.0;
+        std::printf("    q%-3d offset %+.4f slope %+.3f range %.3f\n", j,
+                    ee - te, slope, t.maxCoeff() - t.minCoeff());
+      }
       const SensorSet& ss = robot.truth.sensors;
       for (size_t m = 0; m < ss.markers.size(); ++m)
         std::printf("    %s %.3g/%.3g\n", ss.markers[m].name.c_str(), r.marker_residual[m].rms / ss.markers[m].sigma, rt.marker_residual[m].rms / ss.markers[m].sigma);
