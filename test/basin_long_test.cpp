@@ -239,7 +239,7 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
         const double te = t.mean(), ee = e.mean();
         const double var = (t - te).square().sum();
         const double slope = var > 0 ? ((t - te) * (e - ee)).sum() / var : 0.0;
-        std::printf("    q%-3d offset %+.4f slope %+.3f range %.3f\n", j,
+        std::printf("    q%-3d mean %+.3f offset %+.4f slope %+.3f range %.3f\n", j, te,
                     ee - te, slope, t.maxCoeff() - t.minCoeff());
       }
       const SensorSet& ss = robot.truth.sensors;

@@ -635,6 +635,41 @@ TEST(WideBasinAfterConvergence, WrapsAContinuousJointsMotionSpreadOverTurns) {
   EXPECT_TRUE(wrapMoves(arm(10).robot, wb.guesses(), est.state.q * 8).empty());
 }
 
+// A wrap keeps a motion that spans less than a turn whole: it cuts the
+// turn where no angle lies. The arm's j4 made continuous, its motion over
+// 5.9 rad (most of it near the lower end), each frame's angle a turn off or
+// not (right modulo a turn, as where the markers fit every frame): the
+// wrapped column is the motion itself, moved by one whole number of turns.
+// (Cut about the angles' circular mean, the turn ended at +2.0, and the
+// frames beyond it stayed a turn off.)
+TEST(WideBasinAfterConvergence, AWrapCutsTheTurnWhereNoAngleLies) {
+  test::ArmProblem p = arm(300);
+  std::string urdf = test::kArmUrdf;
+  const std::string j4 = R"(<joint name="j4" type="revolute">)";
+  const size_t at = urdf.find(j4);
+  ASSERT_NE(at, std::string::npos);
+  urdf.replace(at, j4.size(), R"(<joint name="j4" type="continuous">)");
+  p.robot = RobotModel::fromString(urdf, "arm4_continuous_wrist");
+  ArmSetup s(std::move(p));
+  const WideBasin wb = s.basin(s.p.seed);
+  ASSERT_EQ(wb.guesses()[3].column, 3);
+  RowMatrix q = s.p.q_true;
+  const int T = static_cast<int>(q.rows());
+  Eigen::VectorXd motion(T);
+  for (int t = 0; t < T; ++t) {
+    const double u = static_cast<double>(t) / (T - 1);
+    motion[t] = -2.0 + 5.9 * u * u * u;
+    q(t, 3) = motion[t] + 2 * M_PI * (t % 3 - 1);
+  }
+  MinimumMove move;
+  move.wrap = {3};
+  SensorParameters theta = s.p.truth;
+  applyMove(s.p.robot, wb.guesses(), move, &theta, &q);
+  const double turns = (q(0, 3) - motion[0]) / (2 * M_PI);
+  EXPECT_NEAR(turns, std::round(turns), 1e-9);
+  for (int t = 0; t < T; ++t) EXPECT_NEAR(q(t, 3) - motion[t], q(0, 3) - motion[0], 1e-9) << t;
+}
+
 // ---- The whole initialisation ----
 
 TEST(WideBasinInitialisation, ArmFromThePapersSeedingLandsNearTheTruth) {

@@ -278,11 +278,28 @@ std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<Po
 }
 
 namespace {
-// Each angle of column g.column moved by whole turns into the turn about
-// the column's circular mean.
+// Each angle of column g.column moved by whole turns into the one turn
+// whose ends lie in the middle of the widest arc of the circle that no
+// angle occupies. Where each angle is right modulo a turn (the markers fit
+// every frame), that is the motion itself, if it spans less than a turn.
+// (The turn about the angles' circular mean cut an unseen Solo 12's knee
+// motion of 5.9 rad, most of it near one end, inside: the frames beyond the
+// cut stayed a turn off, the pot's gain at 0.4 of the truth's, flagged.)
 void wrapAngles(const PotGuess& g, RowMatrix* q) {
-  const auto angles = q->col(g.column).array();
-  const double centre = std::atan2(angles.sin().sum(), angles.cos().sum());
+  const int T = static_cast<int>(q->rows());
+  if (T == 0) return;
+  std::vector<double> on_circle(T);
+  for (int t = 0; t < T; ++t)
+    on_circle[t] = (*q)(t, g.column) - 2 * M_PI * std::floor((*q)(t, g.column) / (2 * M_PI));
+  std::sort(on_circle.begin(), on_circle.end());
+  double widest = on_circle.front() + 2 * M_PI - on_circle.back();  // across 0
+  double cut = on_circle.back() + 0.5 * widest;
+  for (int t = 1; t < T; ++t)
+    if (on_circle[t] - on_circle[t - 1] > widest) {
+      widest = on_circle[t] - on_circle[t - 1];
+      cut = on_circle[t - 1] + 0.5 * widest;
+    }
+  const double centre = std::remainder(cut + M_PI, 2 * M_PI);  // the turn's middle
   for (int t = 0; t < q->rows(); ++t) {
     double& a = (*q)(t, g.column);
     a -= 2 * M_PI * std::round((a - centre) / (2 * M_PI));

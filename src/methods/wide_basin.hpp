@@ -141,7 +141,7 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 // mirrored (flipSign), the guesses `half_turn` moved half a turn, the
 // guesses `whole_turn` a whole turn (both toward the middle of the limits).
 // The guesses `wrap`: each frame's angle moved by whole turns into the one
-// turn about the column's circular mean (wrapMoves), the pots' maps then
+// turn cut in the widest arc the angles leave empty (wrapMoves), the pots' maps then
 // re-fitted (WideBasin::moveTo). The guesses `recentre`: the joint's motion
 // shifted so that its middle is the limits' middle (recentreMoves), θ then
 // re-fitted to the moved angles.
