@@ -1,7 +1,9 @@
-// A run the iteration limit stops is converged when its last steps shrink
-// geometrically to a tail below a tenth of every determined parameter's std
-// (settled_run.hpp): the bundled hand on partial swings (basin truth 13 of
-// the second noise draw) crawled for 200 iterations along its thumb's
+// A run the iteration limit stops is converged when a Gauss-Newton step
+// could no longer take anything that matters off its cost (settled_run.hpp):
+// the decrement UncertaintyResult::decrement reports is the cost a step to
+// the optimum gains, and a decrement below kSettledStd²/2 puts the optimum
+// within kSettledStd (0.3) std. The bundled hand on partial swings (basin truth
+// 13 of the second noise draw) crawled for 200 iterations along its thumb's
 // undetermined trade-off, the cost rising by 1e-7 of itself an iteration as
 // σ followed, every determined parameter moving by 0.001 std an iteration:
 // "not converged", a right calibration flagged (a false alarm).
@@ -11,70 +13,84 @@
 #include <string>
 
 #include "methods/settled_run.hpp"
-#include "stac/sensors_file.hpp"
-#include "support/arm_files.hpp"
+#include "solve/q_phase.hpp"
+#include "solve/uncertainty.hpp"
+#include "support/arm_fixture.hpp"
 #include "support/basin_draws.hpp"
 
 namespace stac {
 namespace {
 
-struct Trail {
-  RobotModel robot = RobotModel::fromString(test::kArmUrdf, "arm4");
-  SensorsFile file = parseSensorsYaml(test::kArmTruth, "arm4_truth", robot);
-  ThetaSpace space{file.sensors};
-  Eigen::VectorXd std = Eigen::VectorXd::Constant(space.size(), 0.01);
+constexpr int kThreads = 2;
 
-  // Four iterates approaching the truth geometrically: step k (1-3) moves
-  // every free entry by first·ρ^(k-1) of its std; σ's scales by scale_step
-  // each (not shrinking unless 0).
-  IterationTrail approach(double first, double rho, double scale_step = 0.0,
-                          int moving_entry = -1, double moving_step = 0.0) const {
-    IterationTrail trail;
-    Eigen::VectorXd at = Eigen::VectorXd::Zero(space.size());
-    GroupScales scales;
-    for (int k = 0; k < kTrailLength; ++k) {
-      trail.push(space.plus(file.theta, at), scales);
-      for (int i : space.freeIndex()) at[i] += first * std::pow(rho, k) * std[i];
-      if (moving_entry >= 0) at[moving_entry] += moving_step;
-      for (double& kappa : scales.kappa) kappa += scale_step;
-    }
-    return trail;
+// The arm calibrated: its optimum θ, q and final σ.
+struct ArmFit {
+  test::ArmProblem p = test::makeArmProblem(300, 3);
+  CalibrationResult r;
+  RowMatrix q;
+  ArmFit() {
+    CalibrationOptions o;
+    o.threads = kThreads;
+    r = calibrate(p.robot, p.sensors, p.seed, p.obs, o, &q);
   }
 };
 
-TEST(SettledRun, StepsShrinkingToATailBelowATenthOfTheStdHaveSettled) {
-  const Trail t;
-  // Last step 0.01·0.8² std, tail ρ/(1-ρ) = 4 of it: 0.026 std left.
-  EXPECT_TRUE(settledWithinStd(t.space, t.approach(0.01, 0.8), t.std));
-  // The same last step at a rate of 0.99: 0.97 std left.
-  EXPECT_FALSE(settledWithinStd(t.space, t.approach(0.0102, 0.99), t.std));
-  // Steps that do not shrink never settle.
-  EXPECT_FALSE(settledWithinStd(t.space, t.approach(1e-4, 1.0), t.std));
-  EXPECT_FALSE(settledWithinStd(t.space, t.approach(1e-4, 1.2), t.std));
-  // Nothing moving has settled.
-  EXPECT_TRUE(settledWithinStd(t.space, t.approach(0.0, 0.5), t.std));
+struct Decrement {
+  double decrement, cost;
+};
+
+// The decrement and the cost ½ Σ ρ at θ, the q_t solved anew for θ from q.
+Decrement at(const ArmFit& f, const SensorParameters& theta) {
+  const MeasurementModel model(f.p.robot, f.r.sensors);
+  const NoiseModel noise = NoiseModel::fromSeeds(f.r.sensors);  // the final σ
+  const RobustLoss loss;
+  std::vector<FrameWorkspace> ws;
+  for (int i = 0; i < kThreads; ++i) ws.emplace_back(model);
+  QState state;
+  state.q = f.q;
+  QPhaseOptions qo;
+  qo.threads = kThreads;
+  for (int i = 0; i < 5; ++i) qPhase(model, theta, noise, loss, f.p.obs, qo, &ws, &state);
+  const double cost =
+      totalCost(model, theta, noise, loss, f.p.obs, FrameOptions(), kThreads, &ws, &state);
+  const UncertaintyResult u =
+      estimateUncertainty(model, theta, noise, loss, f.p.obs, state.q, kThreads, &ws);
+  return {u.decrement, cost};
 }
 
-TEST(SettledRun, AnUndeterminedParameterMayStillMove) {
-  Trail t;
-  const int i = t.space.freeIndex()[3];
-  const IterationTrail trail = t.approach(0.01, 0.8, 0.0, i, 0.5);
-  EXPECT_FALSE(settledWithinStd(t.space, trail, t.std));  // 50 std a step
-  t.std[i] = INFINITY;  // reported undetermined: no std to settle within
-  EXPECT_TRUE(settledWithinStd(t.space, trail, t.std));
+TEST(SettledRun, TheDecrementIsWhatAStepToTheOptimumTakesOffTheCost) {
+  const ArmFit f;
+  ASSERT_TRUE(f.r.summary.converged);
+  const Decrement optimum = at(f, f.r.theta);
+  EXPECT_LT(optimum.decrement, 1e-3);
+  // A pot's gain and a marker's coordinate 2 std off: the cost rises by
+  // what the decrement then says a step back would take off.
+  const ThetaSpace space(f.r.sensors);
+  for (const auto& [which, entry] :
+       {std::pair{"gain", space.jointOffset(1)}, std::pair{"marker", space.markerOffset(1) + 2}}) {
+    Eigen::VectorXd delta = Eigen::VectorXd::Zero(space.size());
+    const UncertaintyResult u = [&] {
+      const MeasurementModel model(f.p.robot, f.r.sensors);
+      std::vector<FrameWorkspace> ws;
+      for (int i = 0; i < kThreads; ++i) ws.emplace_back(model);
+      return estimateUncertainty(model, f.r.theta, NoiseModel::fromSeeds(f.r.sensors),
+                                 RobustLoss(), f.p.obs, f.q, kThreads, &ws);
+    }();
+    ASSERT_TRUE(std::isfinite(u.std[entry]) && u.std[entry] > 0) << which;
+    delta[entry] = 2 * u.std[entry];
+    const Decrement off = at(f, space.plus(f.r.theta, delta));
+    const double rise = off.cost - optimum.cost;
+    EXPECT_GT(rise, 0.5) << which;  // at least a 1-std move's worth
+    EXPECT_NEAR(off.decrement, rise, 0.02 * rise) << which;
+  }
 }
 
-TEST(SettledRun, SigmaStillMovingHasNotSettled) {
-  const Trail t;
-  EXPECT_FALSE(settledWithinStd(t.space, t.approach(0.01, 0.8, 1e-3), t.std));
-}
-
-TEST(SettledRun, AShortTrailHasNotSettled) {
-  const Trail t;
-  IterationTrail trail = t.approach(0.0, 0.5);
-  trail.theta.erase(trail.theta.begin());
-  trail.scales.erase(trail.scales.begin());
-  EXPECT_FALSE(settledWithinStd(t.space, trail, t.std));
+TEST(SettledRun, SettledWithinAThirdOfAStdAndWithSigmaStill) {
+  EXPECT_TRUE(settled(0.0, 0.0));
+  EXPECT_TRUE(settled(0.04, 5e-4));       // the optimum within 0.28 std
+  EXPECT_FALSE(settled(0.05, 5e-4));      // 0.32 std
+  EXPECT_FALSE(settled(0.001, 2e-3));     // σ still moving
+  EXPECT_FALSE(settled(NAN, 0.0));
 }
 
 TEST(SettledRun, AHandCrawlingAlongItsThumbsTradeOffAtTheLimitIsConverged) {

@@ -20,6 +20,7 @@
 #include "solve/schur.hpp"
 #include "solve/theta_phase.hpp"
 #include "methods/redescending_check.hpp"
+#include "methods/settled_run.hpp"
 #include "methods/verdict.hpp"
 #include "methods/wide_basin.hpp"
 
@@ -161,7 +162,7 @@ LoopOutcome stacIterations(const Problem& problem, const CalibrationOptions& opt
       if (it == 1) std::fill(s->scales.last_step, s->scales.last_step + kNumSensorGroups, 0.0);
     }
     cost = st.cost;
-    out.trail.push(s->theta, s->scales);
+    out.scale_change = change;
     if (std::abs(rel) < options.tolerance && change < 1e-3) {
       out.converged = true;
       break;
@@ -641,9 +642,8 @@ Outcome stacRun(const MethodInput& in, bool* set_aside) {
   const Problem fitted = setGrossReadingsAside(in, &loop, &s, &ws, report, &kept);
   Outcome out = finishRun(fitted, &start, loop.st, &ws);
   out.iterations = loop.iterations;
-  out.converged = loop.converged ||
-                  (loop.iterations >= in.options.max_iterations &&
-                   settledWithinStd(problem.model.thetaSpace(), loop.trail, out.uncertainty.std));
+  out.converged = loop.converged || (loop.iterations >= in.options.max_iterations &&
+                                     settled(out.uncertainty.decrement, loop.scale_change));
   out.slow_convergence = slowConvergence(fitted, out);
   *set_aside = &fitted.obs != &problem.obs;
   return out;

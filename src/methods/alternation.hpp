@@ -5,7 +5,6 @@
 #include <functional>
 
 #include "methods/method.hpp"
-#include "methods/settled_run.hpp"
 #include "solve/pass.hpp"
 
 namespace stac {
@@ -23,7 +22,7 @@ struct LoopOutcome {
   int iterations = 0;
   bool converged = false;
   bool paused = false;  // `pause` asked to stop
-  IterationTrail trail;  // θ and σ after the last iterations (settled_run.hpp)
+  double scale_change = 0;  // the last iteration's relative σ step (0: not adapted)
 };
 
 // The alternation from `st` (the last pass at the current σ) until the

@@ -76,10 +76,11 @@ struct BlockSums {
         B(outer ? kBlocks : 0, Eigen::MatrixXd::Zero(nf, nf)),
         g(kBlocks, Eigen::VectorXd::Zero(nf)),
         D(diag ? kBlocks : 0, Eigen::VectorXd::Zero(nf)),
-        cost(kBlocks, 0.0) {}
+        cost(kBlocks, 0.0),
+        q_decrement(kBlocks, 0.0) {}
   std::vector<Eigen::MatrixXd> S, B;
   std::vector<Eigen::VectorXd> g, D;
-  std::vector<double> cost;
+  std::vector<double> cost, q_decrement;
 
   // Into out (S made symmetric from its lower half), *unreduced_diag and
   // *score_outer where given.
@@ -91,6 +92,7 @@ struct BlockSums {
       out->S += S[b];
       out->g += g[b];
       out->cost += cost[b];
+      out->q_decrement += q_decrement[b];
     }
     // S accumulated H_θθ (lower) minus the eliminated part. LM on the
     // reduced system damps S's own diagonal (a standard choice).
@@ -156,6 +158,7 @@ ReducedSystem reduceOntoTheta(const MeasurementModel& model, const SensorParamet
       auto Yt = Y.middleRows(in_batch * dof, dof);
       Xt = llt.matrixL().solve(fs.Hqt);
       if (need_y) Yt = llt.matrixL().solve(fs.gq);
+      if (with_gradient) sums.q_decrement[block] += 0.5 * Yt.squaredNorm();
       if (score_outer) {
         G.col(in_batch) = g_frame - Xt.transpose() * Yt;  // g_θ - H_θq H_qq⁻¹ g_q
         if (with_gradient) sums.g[block] += g_frame;

@@ -27,6 +27,9 @@ struct ReducedSystem {
   Eigen::MatrixXd S;              // H_θθ - Σ H_θq (H_qq + λD)⁻¹ H_qθ (+ λ diag)
   Eigen::VectorXd g;              // g_θ - Σ H_θq (H_qq + λD)⁻¹ g_q
   double cost = 0;                // ½ Σ ρ at the linearisation point
+  // ½ Σ_t g_qᵀ (H_qq + λD)⁻¹ g_q: what the q_t alone could still take off
+  // the cost (computed with the gradient).
+  double q_decrement = 0;
 };
 
 // Frames are summed in this many fixed blocks of consecutive frames

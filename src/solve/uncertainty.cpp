@@ -44,15 +44,17 @@ UncertaintyResult estimateUncertainty(const MeasurementModel& model,
   }
   // The undamped reduction (λ = 0): S is the information about θ alone.
   Eigen::MatrixXd scores;
-  ReducedSystem rs = reduceOntoTheta(model, theta, noise, loss, obs, q, 0.0, false, threads, ws,
+  ReducedSystem rs = reduceOntoTheta(model, theta, noise, loss, obs, q, 0.0, true, threads, ws,
                                      FrameOptions(), nullptr, &scores);
   // The posterior's information: the prior counts in the bread and, being
   // no data, as itself in the meat.
   Eigen::MatrixXd prior = Eigen::MatrixXd::Zero(rs.S.rows(), rs.S.cols());
-  addOriginPrior(space, theta, &prior, nullptr);
+  Eigen::VectorXd prior_gradient = Eigen::VectorXd::Zero(rs.g.size());
+  addOriginPrior(space, theta, &prior, &prior_gradient);
   rs.S += prior;
+  rs.g += prior_gradient;
   scores += prior;
-  return uncertaintyFromInformation(model, theta, rs.S, &scores);
+  return uncertaintyFromInformation(model, theta, rs.S, &scores, &rs.g, rs.q_decrement);
 }
 
 namespace {
@@ -113,7 +115,9 @@ UnidentifiableDirection describeDirection(const ThetaSpace& space, const SensorP
 UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
                                              const SensorParameters& theta,
                                              const Eigen::MatrixXd& S,
-                                             const Eigen::MatrixXd* score_outer) {
+                                             const Eigen::MatrixXd* score_outer,
+                                             const Eigen::VectorXd* gradient,
+                                             double q_decrement) {
   const ThetaSpace& space = model.thetaSpace();
   UncertaintyResult out;
   out.free_index = space.freeIndex();
@@ -154,6 +158,10 @@ UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
     const Eigen::VectorXd v = V.col(k) / V.col(k).cwiseAbs().maxCoeff();
     out.unidentifiable.push_back(describeDirection(space, theta, out.free_index, v,
                                                    lambda[k] <= 1e-9 * lmax, &confounded));
+  }
+  if (gradient) {
+    const Eigen::VectorXd scaled = D.asDiagonal() * (*gradient);
+    out.decrement = q_decrement + 0.5 * scaled.dot(Sinv * scaled);
   }
   // The sandwich S⁺ B S⁺ where the frames' scores were given: the larger of
   // it and S⁺ (see the header).

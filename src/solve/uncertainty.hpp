@@ -29,6 +29,13 @@ struct UncertaintyResult {
   Eigen::MatrixXd information;    // S, free entries only (rows = free index)
   std::vector<int> free_index;    // θ index of each row of `information`
   std::vector<UnidentifiableDirection> unidentifiable;
+  // How much the cost could still fall from here: the Gauss-Newton
+  // decrement ½ gᵀ H⁺ g of (q_1..q_T, θ), θ's part over the directions the
+  // data determine (an undetermined one is as flat as its gradient is
+  // small, and a step along it changes nothing the result claims). A
+  // displacement of k std along the information's ellipsoid costs k²/2, so
+  // a decrement d puts the optimum within sqrt(2 d) std of θ.
+  double decrement = 0;
 };
 
 UncertaintyResult estimateUncertainty(const MeasurementModel& model,
@@ -40,9 +47,13 @@ UncertaintyResult estimateUncertainty(const MeasurementModel& model,
 // The same analysis for an information matrix S about θ computed elsewhere
 // (free entries only, in MeasurementModel order: e.g. the Gauss-Newton JᵀJ
 // of a regression over θ alone, or the inverse of a filter's covariance).
+// With `gradient` (the reduced gradient over the free entries), also the
+// decrement, q_decrement being the q_t's own part.
 UncertaintyResult uncertaintyFromInformation(const MeasurementModel& model,
                                              const SensorParameters& theta,
                                              const Eigen::MatrixXd& S,
-                                             const Eigen::MatrixXd* score_outer = nullptr);
+                                             const Eigen::MatrixXd* score_outer = nullptr,
+                                             const Eigen::VectorXd* gradient = nullptr,
+                                             double q_decrement = 0.0);
 
 }  // namespace stac
