@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -597,6 +598,18 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
   EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
 }
 
+// The arm with j4 continuous (its motion, within ±1.2, unchanged).
+test::ArmProblem continuousWristArm(int frames) {
+  test::ArmProblem p = arm(frames);
+  std::string urdf = test::kArmUrdf;
+  const std::string j4 = R"(<joint name="j4" type="revolute">)";
+  const size_t at = urdf.find(j4);
+  if (at == std::string::npos) throw std::logic_error("kArmUrdf has no revolute j4");
+  urdf.replace(at, j4.size(), R"(<joint name="j4" type="continuous">)");
+  p.robot = RobotModel::fromString(urdf, "arm4_continuous_wrist");
+  return p;
+}
+
 // The arm with j4 continuous (its motion, within ±1.2, unchanged): j4's pot
 // map at an eighth of its gain, the frames' angles with it, spread over
 // 8 times the motion (several turns), each a turn or more from where the
@@ -604,14 +617,7 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
 // wrap gathers them into one turn and finds the map again; a joint with
 // limits under a turn, or a motion within one, is offered no wrap.
 TEST(WideBasinAfterConvergence, WrapsAContinuousJointsMotionSpreadOverTurns) {
-  test::ArmProblem p = arm(300);
-  std::string urdf = test::kArmUrdf;
-  const std::string j4 = R"(<joint name="j4" type="revolute">)";
-  const size_t at = urdf.find(j4);
-  ASSERT_NE(at, std::string::npos);
-  urdf.replace(at, j4.size(), R"(<joint name="j4" type="continuous">)");
-  p.robot = RobotModel::fromString(urdf, "arm4_continuous_wrist");
-  ArmSetup s(std::move(p));
+  ArmSetup s(continuousWristArm(300));
   const WideBasin wb = s.basin(s.p.seed);
   const PotGuess& g = wb.guesses()[3];
   ASSERT_EQ(g.column, 3);
@@ -643,14 +649,7 @@ TEST(WideBasinAfterConvergence, WrapsAContinuousJointsMotionSpreadOverTurns) {
 // (Cut about the angles' circular mean, the turn ended at +2.0, and the
 // frames beyond it stayed a turn off.)
 TEST(WideBasinAfterConvergence, AWrapCutsTheTurnWhereNoAngleLies) {
-  test::ArmProblem p = arm(300);
-  std::string urdf = test::kArmUrdf;
-  const std::string j4 = R"(<joint name="j4" type="revolute">)";
-  const size_t at = urdf.find(j4);
-  ASSERT_NE(at, std::string::npos);
-  urdf.replace(at, j4.size(), R"(<joint name="j4" type="continuous">)");
-  p.robot = RobotModel::fromString(urdf, "arm4_continuous_wrist");
-  ArmSetup s(std::move(p));
+  ArmSetup s(continuousWristArm(300));
   const WideBasin wb = s.basin(s.p.seed);
   ASSERT_EQ(wb.guesses()[3].column, 3);
   RowMatrix q = s.p.q_true;
