@@ -126,9 +126,6 @@ void truthInTicks(double ticks, SensorParameters* truth) {
     for (GainBias& gb : truth->joint_sensor) gb = {ticks * gb.gain, ticks * gb.bias + 2048};
 }
 
-// One robot, one variant: kTruths random truths from the paper's seeding.
-// Counts the truths reached, and the misses the verdict flags (exit 4) or
-// not (a silent wrong answer).
 // Whether `r` is where the calibration started from the truth itself
 // ends: every parameter within half of r's reported std of that fit's.
 bool fitOfTheTruth(const Robot& robot, const SensorParameters& truth, const Observations& obs,
@@ -138,6 +135,9 @@ bool fitOfTheTruth(const Robot& robot, const SensorParameters& truth, const Obse
   return withinReportedStd(robot.truth.sensors, rt.theta, r, &why, nullptr, 0.5);
 }
 
+// One robot, one variant: kTruths random truths from the paper's seeding.
+// Counts the truths reached, and the misses the verdict flags (exit 4) or
+// not (a silent wrong answer).
 Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
   const double ticks = ticksPerRadian();
   const Robot robot = inTicks(robot_in, ticks);

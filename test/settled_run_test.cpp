@@ -35,12 +35,14 @@ struct ArmFit {
   }
 };
 
-struct Decrement {
-  double decrement, cost;
+struct AtTheta {
+  UncertaintyResult u;  // its decrement and std
+  double cost;
 };
 
-// The decrement and the cost ½ Σ ρ at θ, the q_t solved anew for θ from q.
-Decrement at(const ArmFit& f, const SensorParameters& theta) {
+// The uncertainty analysis and the cost ½ Σ ρ at θ, the q_t solved anew
+// for θ from q.
+AtTheta at(const ArmFit& f, const SensorParameters& theta) {
   const MeasurementModel model(f.p.robot, f.r.sensors);
   const NoiseModel noise = NoiseModel::fromSeeds(f.r.sensors);  // the final σ
   const RobustLoss loss;
@@ -53,35 +55,27 @@ Decrement at(const ArmFit& f, const SensorParameters& theta) {
   for (int i = 0; i < 5; ++i) qPhase(model, theta, noise, loss, f.p.obs, qo, &ws, &state);
   const double cost =
       totalCost(model, theta, noise, loss, f.p.obs, FrameOptions(), kThreads, &ws, &state);
-  const UncertaintyResult u =
-      estimateUncertainty(model, theta, noise, loss, f.p.obs, state.q, kThreads, &ws);
-  return {u.decrement, cost};
+  return {estimateUncertainty(model, theta, noise, loss, f.p.obs, state.q, kThreads, &ws), cost};
 }
 
 TEST(SettledRun, TheDecrementIsWhatAStepToTheOptimumTakesOffTheCost) {
   const ArmFit f;
   ASSERT_TRUE(f.r.summary.converged);
-  const Decrement optimum = at(f, f.r.theta);
-  EXPECT_LT(optimum.decrement, 1e-3);
+  const AtTheta optimum = at(f, f.r.theta);
+  EXPECT_LT(optimum.u.decrement, 1e-3);
   // A pot's gain and a marker's coordinate 2 std off: the cost rises by
   // what the decrement then says a step back would take off.
   const ThetaSpace space(f.r.sensors);
   for (const auto& [which, entry] :
        {std::pair{"gain", space.jointOffset(1)}, std::pair{"marker", space.markerOffset(1) + 2}}) {
+    const double sd = optimum.u.std[entry];
+    ASSERT_TRUE(std::isfinite(sd) && sd > 0) << which;
     Eigen::VectorXd delta = Eigen::VectorXd::Zero(space.size());
-    const UncertaintyResult u = [&] {
-      const MeasurementModel model(f.p.robot, f.r.sensors);
-      std::vector<FrameWorkspace> ws;
-      for (int i = 0; i < kThreads; ++i) ws.emplace_back(model);
-      return estimateUncertainty(model, f.r.theta, NoiseModel::fromSeeds(f.r.sensors),
-                                 RobustLoss(), f.p.obs, f.q, kThreads, &ws);
-    }();
-    ASSERT_TRUE(std::isfinite(u.std[entry]) && u.std[entry] > 0) << which;
-    delta[entry] = 2 * u.std[entry];
-    const Decrement off = at(f, space.plus(f.r.theta, delta));
+    delta[entry] = 2 * sd;
+    const AtTheta off = at(f, space.plus(f.r.theta, delta));
     const double rise = off.cost - optimum.cost;
     EXPECT_GT(rise, 0.5) << which;  // at least a 1-std move's worth
-    EXPECT_NEAR(off.decrement, rise, 0.02 * rise) << which;
+    EXPECT_NEAR(off.u.decrement, rise, 0.02 * rise) << which;
   }
 }
 

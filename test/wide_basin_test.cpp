@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -601,12 +600,7 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
 // The arm with j4 continuous (its motion, within ±1.2, unchanged).
 test::ArmProblem continuousWristArm(int frames) {
   test::ArmProblem p = arm(frames);
-  std::string urdf = test::kArmUrdf;
-  const std::string j4 = R"(<joint name="j4" type="revolute">)";
-  const size_t at = urdf.find(j4);
-  if (at == std::string::npos) throw std::logic_error("kArmUrdf has no revolute j4");
-  urdf.replace(at, j4.size(), R"(<joint name="j4" type="continuous">)");
-  p.robot = RobotModel::fromString(urdf, "arm4_continuous_wrist");
+  p.robot = RobotModel::fromString(test::armUrdfWithContinuousJoint("j4"), "arm4_continuous_wrist");
   return p;
 }
 

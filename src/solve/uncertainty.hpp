@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "stac/calibration.hpp"
@@ -34,8 +35,9 @@ struct UncertaintyResult {
   // data determine (an undetermined one is as flat as its gradient is
   // small, and a step along it changes nothing the result claims). A
   // displacement of k std along the information's ellipsoid costs k²/2, so
-  // a decrement d puts the optimum within sqrt(2 d) std of θ.
-  double decrement = 0;
+  // a decrement d puts the optimum within sqrt(2 d) std of θ. NaN where
+  // not computed (no gradient given, or nothing free).
+  double decrement = std::numeric_limits<double>::quiet_NaN();
 };
 
 UncertaintyResult estimateUncertainty(const MeasurementModel& model,

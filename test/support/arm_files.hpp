@@ -67,11 +67,15 @@ tendon_sensors:
       - {link: l3, point: [0.05, 0.0, 0.03]}
 )";
 
-// kArmUrdf with its first joint continuous (no limits).
-inline std::string armUrdfWithContinuousBase() {
+// kArmUrdf with joint `joint` (j1..j4) continuous (no limits).
+inline std::string armUrdfWithContinuousJoint(const std::string& joint) {
   std::string urdf = kArmUrdf;
-  const std::string j1 = R"(<joint name="j1" type="revolute">)";
-  return urdf.replace(urdf.find(j1), j1.size(), R"(<joint name="j1" type="continuous">)");
+  const std::string revolute = "<joint name=\"" + joint + "\" type=\"revolute\">";
+  return urdf.replace(urdf.find(revolute), revolute.size(),
+                      "<joint name=\"" + joint + "\" type=\"continuous\">");
 }
+
+// kArmUrdf with its first joint continuous.
+inline std::string armUrdfWithContinuousBase() { return armUrdfWithContinuousJoint("j1"); }
 
 }  // namespace stac::test
