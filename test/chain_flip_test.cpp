@@ -12,9 +12,12 @@
 // Both replayed (test/fixtures) must reach the truth with verdict ok.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
+#include "methods/mirror_centres.hpp"
 #include "stac/calibrate.hpp"
+#include "stac/kinematics.hpp"
 #include "support/basin_draws.hpp"
 
 namespace stac {
@@ -35,6 +38,60 @@ TEST(ChainFlips, AFingersRollOverTheTopIsFoundBack) {
 
 TEST(ChainFlips, AnArmsMirrorClosedByItsLastRollIsFoundBackAfterARestart) {
   expectPartialTruthReached("z1_kinematics.urdf", 2);
+}
+
+RobotModel z1() {
+  return RobotModel::fromFile(std::string(STAC_SOURCE_DIR) + "/test/fixtures/z1_kinematics.urdf");
+}
+
+// Where the flip about `centres` puts the link of column `bottom` at q.
+Eigen::Isometry3d flippedPose(const RobotModel& robot, Eigen::VectorXd q,
+                              const std::vector<int>& flip, const std::vector<double>& centres,
+                              const std::vector<int>& half_turn, int bottom) {
+  for (size_t i = 0; i < flip.size(); ++i) q[flip[i]] = 2 * centres[i] - q[flip[i]];
+  for (int j : half_turn) q[j] += M_PI;
+  KinematicsWorkspace ws(robot);
+  forwardKinematics(robot, q, &ws);
+  return ws.link_pose[robot.movableJoints()[robot.qJoints()[bottom]].child_link];
+}
+
+// The Z1's arm mirror (yaw and roll half a turn, pitches and wrist yaw
+// mirrored): its link offsets put the half-turn line along the upper arm
+// (joint 2 about pi/2), then along the forearm's offset (0.218, 0.057)
+// (joint 3 about atan2(0.057, 0.218)), back along x (joint 4 about minus
+// that), where the wrist yaw keeps it (joint 5 about 0) on the roll's axis.
+TEST(MirrorCentres, AnArmsMirrorIsExactWhereItsLinkOffsetsAlignTheAxes) {
+  const RobotModel robot = z1();
+  const std::vector<int> flip = {1, 2, 3, 4}, half_turn = {0, 5};
+  const auto centres = exactMirrorCentres(robot, flip, half_turn);
+  ASSERT_TRUE(centres.has_value());
+  const double elbow = std::atan2(0.057, 0.218);
+  const std::vector<double> expected = {M_PI / 2, elbow, -elbow, 0};
+  for (size_t i = 0; i < flip.size(); ++i) {
+    // Modulo pi: a mirror about c + pi is the same one a whole turn on.
+    EXPECT_NEAR(std::remainder((*centres)[i] - expected[i], M_PI), 0, 1e-9) << "joint " << i + 2;
+  }
+  // And exact away from the configurations it was solved on.
+  Eigen::VectorXd q(robot.dof());
+  q << 0.4, 1.1, -0.7, 0.3, -0.5, 1.9, -0.3;
+  KinematicsWorkspace ws(robot);
+  forwardKinematics(robot, q, &ws);
+  const Eigen::Isometry3d truth = ws.link_pose[robot.movableJoints()[robot.qJoints()[5]].child_link];
+  const Eigen::Isometry3d moved = flippedPose(robot, q, flip, *centres, half_turn, 5);
+  EXPECT_LT((moved.matrix() - truth.matrix()).cwiseAbs().maxCoeff(), 1e-9);
+  // About zero (what the flip used before) it is far off: 0.1 m or more.
+  const Eigen::Isometry3d about_zero = flippedPose(robot, q, flip, {0, 0, 0, 0}, half_turn, 5);
+  EXPECT_GT((about_zero.translation() - truth.translation()).norm(), 0.1);
+}
+
+// No centres make a flip exact that its axes do not allow (the wrist yaw
+// left out, the roll's axis is no line the pitches can reach), nor one
+// that does not close on a half-turned joint, nor one across two branches.
+TEST(MirrorCentres, NoCentresWhereTheFlipCannotBeExact) {
+  const RobotModel robot = z1();
+  EXPECT_FALSE(exactMirrorCentres(robot, {1, 2, 3}, {0, 5}).has_value());
+  EXPECT_FALSE(exactMirrorCentres(robot, {1, 2, 3, 4}, {0}).has_value());
+  EXPECT_FALSE(exactMirrorCentres(robot, {1, 2}, {}).has_value());
 }
 
 }  // namespace

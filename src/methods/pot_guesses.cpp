@@ -11,6 +11,7 @@
 
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
+#include "methods/mirror_centres.hpp"
 #include "methods/verdict.hpp"
 
 namespace stac {
@@ -420,34 +421,52 @@ std::vector<MinimumMove> minimumMoves(const RobotModel& robot, const std::vector
 }
 
 namespace {
-// Mirrors column g.column about a whole number of half turns c = kπ, the
-// one that keeps the mirrored motion nearest the middle of the joint's
-// limits (k = 0 without limits), and flips its pot's map to match. A
-// revolute joint's kinematics repeat every turn, so a chain's mirror
-// configuration about the joint's zero is one about every kπ with k even,
-// and about π with k odd where the aligned axes meet at π: the Kinova
-// Jaco's wrist (joint 5 limited to [0.52, 5.76], straight at π) flips to
-// 2π − q5, which lies within them, where −q5 does not.
-void flipAboutTurns(const RobotModel& robot, const PotGuess& g, SensorParameters* theta,
-                    RowMatrix* q) {
+// Mirrors column g.column about the nearest of centre + kπ that keeps the
+// mirrored motion nearest the middle of the joint's limits (k = 0 without
+// limits), and flips its pot's map to match. A revolute joint's
+// kinematics repeat every turn, so a chain's mirror about a centre is one
+// about every centre + kπ with k even, and about centre + π with k odd
+// where the aligned axes meet there: the Kinova Jaco's wrist (joint 5
+// limited to [0.52, 5.76], straight at π) flips to 2π − q5, which lies
+// within them, where −q5 does not.
+void flipAboutTurns(const RobotModel& robot, const PotGuess& g, double centre,
+                    SensorParameters* theta, RowMatrix* q) {
   const double mid = 0.5 * (robot.lowerLimits()[g.column] + robot.upperLimits()[g.column]);
   const bool revolute =
       robot.movableJoints()[robot.qJoints()[g.column]].type != JointType::kPrismatic;
   double c = 0;
-  if (revolute && std::isfinite(mid) && !g.bias_held)
-    c = M_PI * std::round((mid + q->col(g.column).mean()) / (2 * M_PI));
+  if (revolute && !g.bias_held) {
+    c = centre;
+    if (std::isfinite(mid))
+      c += M_PI * std::round((mid + q->col(g.column).mean() - 2 * centre) / (2 * M_PI));
+  }
   mirrorAbout(g, c, theta, q);
+}
+
+// The centres flipAboutTurns mirrors a move's flips about: where the
+// kinematics make the chain flip exact (exactMirrorCentres), else zero.
+std::vector<double> flipCentres(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                                const MinimumMove& move) {
+  std::vector<int> flip, half_turn;
+  for (int i : move.flip) flip.push_back(guesses[i].column);
+  for (int i : move.half_turn) half_turn.push_back(guesses[i].column);
+  return exactMirrorCentres(robot, flip, half_turn)
+      .value_or(std::vector<double>(move.flip.size(), 0.0));
 }
 }  // namespace
 
 void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                const MinimumMove& move, SensorParameters* theta, RowMatrix* q,
                bool mirror_about_zero) {
-  for (int i : move.flip) {
-    if (mirror_about_zero || move.flip_about_zero)
-      flipAboutTurns(robot, guesses[i], theta, q);
+  const bool exact = mirror_about_zero || move.flip_about_zero;
+  const std::vector<double> centres =
+      exact ? flipCentres(robot, guesses, move) : std::vector<double>();
+  for (size_t f = 0; f < move.flip.size(); ++f) {
+    const PotGuess& g = guesses[move.flip[f]];
+    if (exact)
+      flipAboutTurns(robot, g, centres[f], theta, q);
     else
-      flipSign(guesses[i], theta, q);
+      flipSign(g, theta, q);
   }
   for (int i : move.half_turn) turn(robot, guesses[i], 1, theta, q);
   for (int i : move.whole_turn) turn(robot, guesses[i], 2, theta, q);

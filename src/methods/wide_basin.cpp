@@ -472,6 +472,13 @@ bool withinLimits(const std::vector<PotGuess>& guesses, const MinimumMove& move,
     }
   return true;
 }
+
+// Whether a and b put every frame's joints at the same angles, modulo whole
+// turns.
+bool sameTurns(const RowMatrix& a, const RowMatrix& b) {
+  return (a - b).unaryExpr([](double d) { return std::remainder(d, 2 * M_PI); }).cwiseAbs().maxCoeff() <
+         1e-9;
+}
 }  // namespace
 
 std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
@@ -493,18 +500,28 @@ std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
   SensorParameters refined_base = est.theta;
   double refined_base_cost = -1;
   std::vector<EquivalentMove> out;
+  // The angles each listed move put the frames at: about the kinematics'
+  // exact centres (exactMirrorCentres), a flip and its variant over the top
+  // can land on the same configuration, listed once.
+  std::vector<RowMatrix> listed;
   for (const MinimumMove& move : minimumMoves(model_.robot(), guesses_, moves_)) {
     SensorParameters theta = est.theta;
     QState moved = sub;
     moveTo(move, true, sub_, &theta, &moved);
     if (!withinLimits(guesses_, move, moved.q, lower, upper)) continue;
+    if (std::any_of(listed.begin(), listed.end(),
+                    [&](const RowMatrix& q) { return sameTurns(q, moved.q); }))
+      continue;
     if (!(refitCost(&theta, moved) <= kNearMirror * base)) continue;
     if (refined_base_cost < 0) {
       QState state = sub;
       refined_base_cost = refine(&refined_base, &state);
     }
-    if (refine(&theta, &moved) <= (1 + kSameFit) * refined_base_cost)
+    const RowMatrix moved_q = moved.q;
+    if (refine(&theta, &moved) <= (1 + kSameFit) * refined_base_cost) {
       out.push_back({move, std::move(theta)});
+      listed.push_back(moved_q);
+    }
   }
   if (refitted) *refitted = refined_base_cost < 0 ? base_theta : refined_base;
   return out;

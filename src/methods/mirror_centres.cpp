@@ -1,0 +1,146 @@
+#include "methods/mirror_centres.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "stac/kinematics.hpp"
+
+namespace stac {
+
+namespace {
+
+// A flip matches where the bottom link's pose does, on kSamples spread
+// configurations: three generic ones leave no centres exact by accident.
+constexpr int kSamples = 3;
+// Exact: every coordinate of the pose (metres, and rotation-matrix entries)
+// within this; an inexact flip misses by the links' offsets, millimetres.
+constexpr double kExact = 1e-8;
+
+// The movable joint a column drives (its master; mimic followers move with it).
+int movableOf(const RobotModel& robot, int column) { return robot.qJoints()[column]; }
+
+// The column among `moved` whose link has every other moved column's joint
+// on its path to the root, or -1.
+int deepest(const RobotModel& robot, const std::vector<int>& moved) {
+  for (int j : moved) {
+    const int link = robot.movableJoints()[movableOf(robot, j)].child_link;
+    const std::vector<int>& support = robot.supportingJoints(link);
+    const bool below_all = std::all_of(moved.begin(), moved.end(), [&](int other) {
+      return std::find(support.begin(), support.end(), movableOf(robot, other)) != support.end();
+    });
+    if (below_all) return j;
+  }
+  return -1;
+}
+
+// Configuration s of kSamples: every joint at a fixed, irregular share of
+// its limits (of a turn where it has none).
+Eigen::VectorXd sampleConfiguration(const RobotModel& robot, int s) {
+  Eigen::VectorXd q(robot.dof());
+  for (int j = 0; j < robot.dof(); ++j) {
+    const double share = std::fmod(0.31 + 0.7548776662 * (s + 1) + 0.5698402910 * (j + 1), 1.0);
+    double lo = robot.lowerLimits()[j], hi = robot.upperLimits()[j];
+    if (!std::isfinite(lo) || !std::isfinite(hi)) lo = -M_PI, hi = M_PI;
+    q[j] = lo + share * (hi - lo);
+  }
+  return q;
+}
+
+// How far the flip about centres c moves `link` on each sample: position
+// and rotation-matrix differences, 12 per sample.
+class FlipMismatch {
+ public:
+  FlipMismatch(const RobotModel& robot, std::vector<int> flip, std::vector<int> half_turn,
+               int link)
+      : robot_(robot), flip_(std::move(flip)), half_turn_(std::move(half_turn)), link_(link),
+        ws_(robot) {
+    for (int s = 0; s < kSamples; ++s) {
+      samples_.push_back(sampleConfiguration(robot, s));
+      forwardKinematics(robot, samples_.back(), &ws_);
+      poses_.push_back(ws_.link_pose[link_]);
+    }
+  }
+  int size() const { return 12 * kSamples; }
+
+  Eigen::VectorXd operator()(const Eigen::VectorXd& c) {
+    Eigen::VectorXd r(size());
+    for (int s = 0; s < kSamples; ++s) {
+      Eigen::VectorXd q = samples_[s];
+      for (size_t i = 0; i < flip_.size(); ++i) q[flip_[i]] = 2 * c[i] - q[flip_[i]];
+      for (int j : half_turn_) q[j] += M_PI;
+      forwardKinematics(robot_, q, &ws_);
+      const Eigen::Isometry3d& moved = ws_.link_pose[link_];
+      r.segment<3>(12 * s) = moved.translation() - poses_[s].translation();
+      const Eigen::Matrix3d dr = moved.linear() - poses_[s].linear();
+      r.segment<9>(12 * s + 3) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dr.data());
+    }
+    return r;
+  }
+
+ private:
+  const RobotModel& robot_;
+  std::vector<int> flip_, half_turn_;
+  int link_;
+  KinematicsWorkspace ws_;
+  std::vector<Eigen::VectorXd> samples_;
+  std::vector<Eigen::Isometry3d> poses_;
+};
+
+// Levenberg-Marquardt on the centres from zero, forward-difference
+// Jacobian: a handful of unknowns, a smooth periodic mismatch.
+Eigen::VectorXd leastMismatch(FlipMismatch& mismatch, int n) {
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd r = mismatch(c);
+  double lambda = 1e-3;
+  for (int it = 0; it < 60 && r.squaredNorm() > 0; ++it) {
+    Eigen::MatrixXd J(r.size(), n);
+    for (int i = 0; i < n; ++i) {
+      Eigen::VectorXd ci = c;
+      ci[i] += 1e-7;
+      J.col(i) = (mismatch(ci) - r) / 1e-7;
+    }
+    const Eigen::MatrixXd JtJ = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    bool stepped = false;
+    while (!stepped && lambda < 1e8) {
+      Eigen::MatrixXd A = JtJ;
+      A.diagonal().array() += lambda * (1 + JtJ.diagonal().array());
+      const Eigen::VectorXd next = c - A.ldlt().solve(g);
+      const Eigen::VectorXd rn = mismatch(next);
+      if (rn.squaredNorm() < r.squaredNorm()) {
+        c = next, r = rn, lambda = std::max(lambda / 10, 1e-12), stepped = true;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!stepped) break;
+  }
+  return c;
+}
+
+}  // namespace
+
+std::optional<std::vector<double>> exactMirrorCentres(const RobotModel& robot,
+                                                      const std::vector<int>& flip,
+                                                      const std::vector<int>& half_turn) {
+  if (flip.empty() || half_turn.empty()) return std::nullopt;
+  std::vector<int> moved = flip;
+  moved.insert(moved.end(), half_turn.begin(), half_turn.end());
+  const int bottom = deepest(robot, moved);
+  if (bottom < 0 || std::find(half_turn.begin(), half_turn.end(), bottom) == half_turn.end())
+    return std::nullopt;
+  for (int j : moved)
+    if (robot.movableJoints()[movableOf(robot, j)].type == JointType::kPrismatic)
+      return std::nullopt;
+  FlipMismatch mismatch(robot, flip, half_turn,
+                        robot.movableJoints()[movableOf(robot, bottom)].child_link);
+  const Eigen::VectorXd c = leastMismatch(mismatch, static_cast<int>(flip.size()));
+  if (!(mismatch(c).lpNorm<Eigen::Infinity>() <= kExact)) return std::nullopt;
+  std::vector<double> out;
+  for (int i = 0; i < c.size(); ++i) out.push_back(c[i] - M_PI * std::round(c[i] / M_PI));
+  return out;
+}
+
+}  // namespace stac
