@@ -250,9 +250,18 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
       for (size_t m = 0; m < ss.tendon_sensors.size(); ++m)
         std::printf("    %s %.3g/%.3g\n", ss.tendon_sensors[m].name.c_str(), r.tendon_residual[m].rms / ss.tendon_sensors[m].sigma, rt.tendon_residual[m].rms / ss.tendon_sensors[m].sigma);
     }
-    if (reached && suspect)
+    if (reached && suspect) {
       std::printf("  %s/%s truth %d: reached but flagged (%s)\n", robot.name.c_str(),
                   variantName(v), k, r.summary.verdict[0].c_str());
+      if (std::getenv("STAC_BASIN_DIAG")) {  // how near the 4 std it came
+        std::vector<double> a;
+        for (double e : z) a.push_back(std::abs(e));
+        std::sort(a.rbegin(), a.rend());
+        std::printf("    largest errors (std):");
+        for (size_t i = 0; i < a.size() && i < 5; ++i) std::printf(" %.2f", a[i]);
+        std::printf(" of %zu\n", a.size());
+      }
+    }
   }
   // An honest std gives errors of RMS 1 std over the reached truths.
   std::printf("basin %-12s %-9s reached %2d/%d (%d reported undetermined)  misses flagged %d, "

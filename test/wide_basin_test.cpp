@@ -635,6 +635,31 @@ TEST(WideBasinAfterConvergence, WrapsAContinuousJointsMotionSpreadOverTurns) {
   EXPECT_TRUE(wrapMoves(arm(10).robot, wb.guesses(), est.state.q * 8).empty());
 }
 
+// The same wrap from a log whose frames carry the damping of a long run
+// (large: steps tiny): the jump is judged on the subsample, whose frames
+// start afresh, and the full log must land where it did. With the damping
+// carried, ur5 on partial swings (basin truth 4) had its wrist's frames
+// left elsewhere, the turn cut inside the motion, the pot's map at -0.5x
+// the truth's gain, flagged.
+TEST(WideBasinAfterConvergence, AWrapLandsAlikeWhateverDampingTheFramesCarry) {
+  ArmSetup s(continuousWristArm(300));
+  const WideBasin wb = s.basin(s.p.seed);
+  const PotGuess& g = wb.guesses()[3];
+  Estimate est = atTheTruth(s.p);
+  GainBias& map = est.theta.joint_sensor[g.sensor];
+  const double mean = s.p.q_true.col(3).mean();
+  est.state.q.col(3) = (mean + 8 * (s.p.q_true.col(3).array() - mean)).matrix();
+  map.bias += map.gain * mean * (1 - 1.0 / 8);
+  map.gain /= 8;
+  est.state.lambda = Eigen::VectorXd::Constant(est.state.q.rows(), 1e6);
+  const auto jump = wb.jumpToBetterMinimum(&est);
+  ASSERT_TRUE(jump);
+  ASSERT_EQ(jump->wrap, std::vector<int>{3});
+  const GainBias& truth = s.p.truth.joint_sensor[g.sensor];
+  EXPECT_NEAR(map.gain, truth.gain, 0.02 * std::abs(truth.gain));
+  EXPECT_NEAR(std::remainder(map.bias - truth.bias, 2 * M_PI * truth.gain), 0.0, 0.05);
+}
+
 // A wrap keeps a motion that spans less than a turn whole: it cuts the
 // turn where no angle lies. The arm's j4 made continuous, its motion over
 // 5.9 rad (most of it near the lower end), each frame's angle a turn off or

@@ -449,6 +449,11 @@ void WideBasin::moveTo(const MinimumMove& move, bool mirror_about_zero, const Ob
     markers.max_steps = 10;
     markers.frozen.assign(model_.dof(), true);
     for (int i : move.wrap) markers.frozen[guesses_[i].column] = false;
+    // From the same fresh damping in every frame: the jump is judged on the
+    // subsample, whose frames carry none, and a full log's damping carried
+    // from its last iterations took ur5's wrist (partial swings, basin
+    // truth 4) elsewhere in 10 steps, the turn then cut inside its motion.
+    state->lambda.resize(0);
     qPhase(model_, *theta, noise_, loss_, obs, markers, ws_, state);
   }
   applyMove(model_.robot(), guesses_, move, theta, &state->q, mirror_about_zero);
