@@ -170,9 +170,9 @@ Simulation simulateVariant(const Robot& robot, const MeasurementModel& model,
 }
 
 BasinReplay replayBasinTruth(const Robot& robot, Variant v, int index, LossKind outlier_loss,
-                             CalibrationOptions o, int noise_draw) {
+                             CalibrationOptions o, int noise_draw, unsigned truth_seed) {
   const SensorSet& sensors = robot.truth.sensors;
-  std::mt19937_64 rng(2024);  // the basin test's draw of truths
+  std::mt19937_64 rng(truth_seed);  // the basin test's draw of truths (STAC_BASIN_TRUTH_SEED)
   BasinReplay out;
   for (int k = 0; k <= index; ++k)
     out.truth = randomTruth(robot.model, sensors, robot.truth.theta, rng);

@@ -85,6 +85,6 @@ struct BasinReplay {
 BasinReplay replayBasinTruth(const Robot& robot, Variant v, int index,
                              LossKind outlier_loss = LossKind::kHuber,
                              CalibrationOptions options = CalibrationOptions(),
-                             int noise_draw = 0);
+                             int noise_draw = 0, unsigned truth_seed = 2024);
 
 }  // namespace stac::test
