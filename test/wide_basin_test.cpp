@@ -604,6 +604,31 @@ test::ArmProblem continuousWristArm(int frames) {
   return p;
 }
 
+// The truth with guess g's pot map at an eighth of its gain, the frames'
+// angles with it, spread over 8 times the motion.
+Estimate spreadEightfold(const test::ArmProblem& p, const PotGuess& g) {
+  Estimate est = atTheTruth(p);
+  GainBias& map = est.theta.joint_sensor[g.sensor];
+  const double mean = p.q_true.col(g.column).mean();
+  est.state.q.col(g.column) = (mean + 8 * (p.q_true.col(g.column).array() - mean)).matrix();
+  map.bias += map.gain * mean * (1 - 1.0 / 8);
+  map.gain /= 8;
+  return est;
+}
+
+// The jump from est is j4's wrap, and it finds j4's pot map again (its bias
+// modulo a turn of the joint).
+void expectTheWrapFindsTheMap(const test::ArmProblem& p, const WideBasin& wb, Estimate* est) {
+  const PotGuess& g = wb.guesses()[3];
+  const auto jump = wb.jumpToBetterMinimum(est);
+  ASSERT_TRUE(jump);
+  EXPECT_EQ(jump->wrap, std::vector<int>{3});
+  const GainBias& map = est->theta.joint_sensor[g.sensor];
+  const GainBias& truth = p.truth.joint_sensor[g.sensor];
+  EXPECT_NEAR(map.gain, truth.gain, 0.02 * std::abs(truth.gain));
+  EXPECT_NEAR(std::remainder(map.bias - truth.bias, 2 * M_PI * truth.gain), 0.0, 0.05);
+}
+
 // The arm with j4 continuous (its motion, within ±1.2, unchanged): j4's pot
 // map at an eighth of its gain, the frames' angles with it, spread over
 // 8 times the motion (several turns), each a turn or more from where the
@@ -613,24 +638,13 @@ test::ArmProblem continuousWristArm(int frames) {
 TEST(WideBasinAfterConvergence, WrapsAContinuousJointsMotionSpreadOverTurns) {
   ArmSetup s(continuousWristArm(300));
   const WideBasin wb = s.basin(s.p.seed);
-  const PotGuess& g = wb.guesses()[3];
-  ASSERT_EQ(g.column, 3);
+  ASSERT_EQ(wb.guesses()[3].column, 3);
   EXPECT_TRUE(wrapMoves(s.p.robot, wb.guesses(), s.p.q_true).empty());
-  Estimate est = atTheTruth(s.p);
-  GainBias& map = est.theta.joint_sensor[g.sensor];
-  const double mean = s.p.q_true.col(3).mean();
-  est.state.q.col(3) = (mean + 8 * (s.p.q_true.col(3).array() - mean)).matrix();
-  map.bias += map.gain * mean * (1 - 1.0 / 8);
-  map.gain /= 8;
+  Estimate est = spreadEightfold(s.p, wb.guesses()[3]);
   const std::vector<MinimumMove> wraps = wrapMoves(s.p.robot, wb.guesses(), est.state.q);
   ASSERT_EQ(wraps.size(), 1u);
   EXPECT_EQ(wraps[0].wrap, std::vector<int>{3});
-  const auto jump = wb.jumpToBetterMinimum(&est);
-  ASSERT_TRUE(jump);
-  EXPECT_EQ(jump->wrap, std::vector<int>{3});
-  const GainBias& truth = s.p.truth.joint_sensor[g.sensor];
-  EXPECT_NEAR(map.gain, truth.gain, 0.02 * std::abs(truth.gain));
-  EXPECT_NEAR(std::remainder(map.bias - truth.bias, 2 * M_PI * truth.gain), 0.0, 0.05);
+  expectTheWrapFindsTheMap(s.p, wb, &est);
   // The same arm as the fixture builds it (j4 within ±1.2): no wrap.
   EXPECT_TRUE(wrapMoves(arm(10).robot, wb.guesses(), est.state.q * 8).empty());
 }
@@ -644,20 +658,10 @@ TEST(WideBasinAfterConvergence, WrapsAContinuousJointsMotionSpreadOverTurns) {
 TEST(WideBasinAfterConvergence, AWrapLandsAlikeWhateverDampingTheFramesCarry) {
   ArmSetup s(continuousWristArm(300));
   const WideBasin wb = s.basin(s.p.seed);
-  const PotGuess& g = wb.guesses()[3];
-  Estimate est = atTheTruth(s.p);
-  GainBias& map = est.theta.joint_sensor[g.sensor];
-  const double mean = s.p.q_true.col(3).mean();
-  est.state.q.col(3) = (mean + 8 * (s.p.q_true.col(3).array() - mean)).matrix();
-  map.bias += map.gain * mean * (1 - 1.0 / 8);
-  map.gain /= 8;
+  ASSERT_EQ(wb.guesses()[3].column, 3);
+  Estimate est = spreadEightfold(s.p, wb.guesses()[3]);
   est.state.lambda = Eigen::VectorXd::Constant(est.state.q.rows(), 1e6);
-  const auto jump = wb.jumpToBetterMinimum(&est);
-  ASSERT_TRUE(jump);
-  ASSERT_EQ(jump->wrap, std::vector<int>{3});
-  const GainBias& truth = s.p.truth.joint_sensor[g.sensor];
-  EXPECT_NEAR(map.gain, truth.gain, 0.02 * std::abs(truth.gain));
-  EXPECT_NEAR(std::remainder(map.bias - truth.bias, 2 * M_PI * truth.gain), 0.0, 0.05);
+  expectTheWrapFindsTheMap(s.p, wb, &est);
 }
 
 // A wrap keeps a motion that spans less than a turn whole: it cuts the

@@ -20,9 +20,10 @@ namespace stac {
 // turn at the bottom undoes it once that line is the bottom joint's axis.
 // The centres where that happens are zero where the links' offsets keep
 // the axes aligned at zero (a Jaco's shoulder flip); elsewhere they are
-// where the offsets align them (an unseen Z1's arm mirror, q1 + π,
-// π/2 + 0.256·{0, -2, 2} ... about the pitches, q6 + π: about zero it
-// refined to 3200 times the truth's cost). Returns each flip column's
+// where the offsets align them (an unseen Z1's arm mirror, q1 + π and
+// q6 + π, its three pitches and wrist yaw mirrored about π/2, 0.256,
+// −0.256 and 0: about zero it refined to 3200 times the truth's cost, and
+// the run ended flagged in the mirror). Returns each flip column's
 // centre modulo π (the mirrors about c and c + π differ by a whole turn),
 // solved on a few fixed configurations within the limits, or nothing where
 // the columns form no such chain or no centres make the flip exact.
