@@ -38,6 +38,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <random>
 
 #include "stac/calibrate.hpp"
@@ -126,25 +127,21 @@ void truthInTicks(double ticks, SensorParameters* truth) {
     for (GainBias& gb : truth->joint_sensor) gb = {ticks * gb.gain, ticks * gb.bias + 2048};
 }
 
-// Whether `r` is where the calibration started from the truth itself
+// Whether `r` is where the calibration started from the truth itself (rt)
 // ends: every parameter within half of r's reported std of that fit's.
-bool fitOfTheTruth(const Robot& robot, const SensorParameters& truth, const Observations& obs,
-                   const CalibrationOptions& o, const CalibrationResult& r) {
-  const CalibrationResult rt = calibrate(robot.model, robot.truth.sensors, truth, obs, o);
+bool fitOfTheTruth(const Robot& robot, const CalibrationResult& rt, const CalibrationResult& r) {
   std::string why;
   return withinReportedStd(robot.truth.sensors, rt.theta, r, &why, nullptr, 0.5);
 }
 
 // Whether a result that reports some parameters undetermined found another
 // minimum than the truth's: the calibration started from the truth itself
-// determines every parameter and fits some sensor group's readings better
+// (rt) determines every parameter and fits some sensor group's readings better
 // by more than 5% in RMS. Its undetermined parameters pass the 4-std test
 // vacuously, yet it did not reach the truth (hand24 on partial swings,
 // fresh truth 15: the thumb's trade-off reported, the markers at 1.20x the
 // RMS of the truth's own fit, flagged, and counted as a false alarm).
-bool anotherMinimum(const Robot& robot, const SensorParameters& truth, const Observations& obs,
-                    const CalibrationOptions& o, const CalibrationResult& r) {
-  const CalibrationResult rt = calibrate(robot.model, robot.truth.sensors, truth, obs, o);
+bool anotherMinimum(const CalibrationResult& rt, const CalibrationResult& r) {
   if (!rt.summary.unidentifiable.empty()) return false;
   for (int g = 0; g < kNumSensorGroups; ++g)
     if (r.summary.group_present[g] && r.summary.after_rms[g] > 1.05 * rt.summary.after_rms[g])
@@ -202,7 +199,13 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
     bool reached = withinReportedStd(robot.truth.sensors, truth, r, &why, &z);
     std::string exact_why;
     const bool exact = reached && closeToTruth(robot.truth.sensors, truth, r, &exact_why);
-    if (reached && !exact && anotherMinimum(robot, truth, obs, o, r)) {
+    // The calibration started from the truth itself, made once where asked.
+    std::optional<CalibrationResult> from_truth;
+    const auto fromTruth = [&]() -> const CalibrationResult& {
+      if (!from_truth) from_truth = calibrate(robot.model, robot.truth.sensors, truth, obs, o);
+      return *from_truth;
+    };
+    if (reached && !exact && anotherMinimum(fromTruth(), r)) {
       reached = false;
       why = "reported undetermined (" + exact_why +
             "), where the truth's own fit determines every parameter and fits better";
@@ -218,7 +221,7 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
     // tail of the std (a 4.1-std gain on humanoid38's plain truth 9, as
     // likely as one parameter in some 15,000 draws; the truth's own fit
     // lands there). Counted apart, as a noise draw.
-    const bool draw = !reached && !suspect && fitOfTheTruth(robot, truth, obs, o, r);
+    const bool draw = !reached && !suspect && fitOfTheTruth(robot, fromTruth(), r);
     ++tally.truths;
     tally.reached += reached;
     tally.reported += reached && !exact;
@@ -247,7 +250,7 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
     }
     if ((!reached || suspect) && std::getenv("STAC_BASIN_DIAG")) {
       // Is the miss a worse minimum, or as good a fit as the truth's own?
-      const CalibrationResult rt = calibrate(robot.model, robot.truth.sensors, truth, obs, o);
+      const CalibrationResult& rt = fromTruth();
       std::printf("    diag: cost %.6g (from truth %.6g), rms", r.summary.final_cost,
                   rt.summary.final_cost);
       for (int g = 0; g < kNumSensorGroups; ++g)

@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 
+#include "solve/lm_damping.hpp"
 #include "stac/kinematics.hpp"
 
 namespace stac {
@@ -88,34 +89,36 @@ class FlipMismatch {
   std::vector<Eigen::Isometry3d> poses_;
 };
 
-// Levenberg-Marquardt on the centres from zero, forward-difference
-// Jacobian: a handful of unknowns, a smooth periodic mismatch.
+// Levenberg-Marquardt on the centres from zero (the frames' damping
+// policy, lm_damping.hpp: a handful of angles, as a frame's), with a
+// forward-difference Jacobian: the mismatch is smooth and periodic.
 Eigen::VectorXd leastMismatch(FlipMismatch& mismatch, int n) {
+  constexpr int kMaxSteps = 60;
+  constexpr double kDelta = 1e-7;  // the difference step, radians
   Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
   Eigen::VectorXd r = mismatch(c);
   double lambda = 1e-3;
-  for (int it = 0; it < 60 && r.squaredNorm() > 0; ++it) {
+  for (int it = 0; it < kMaxSteps && r.squaredNorm() > 0; ++it) {
     Eigen::MatrixXd J(r.size(), n);
     for (int i = 0; i < n; ++i) {
       Eigen::VectorXd ci = c;
-      ci[i] += 1e-7;
-      J.col(i) = (mismatch(ci) - r) / 1e-7;
+      ci[i] += kDelta;
+      J.col(i) = (mismatch(ci) - r) / kDelta;
     }
-    const Eigen::MatrixXd JtJ = J.transpose() * J;
+    const Eigen::MatrixXd H = J.transpose() * J;
     const Eigen::VectorXd g = J.transpose() * r;
-    bool stepped = false;
-    while (!stepped && lambda < 1e8) {
-      Eigen::MatrixXd A = JtJ;
-      A.diagonal().array() += lambda * (1 + JtJ.diagonal().array());
+    for (;;) {
+      Eigen::MatrixXd A = H;
+      addDamping(lambda, H, &A);
       const Eigen::VectorXd next = c - A.ldlt().solve(g);
       const Eigen::VectorXd rn = mismatch(next);
       if (rn.squaredNorm() < r.squaredNorm()) {
-        c = next, r = rn, lambda = std::max(lambda / 10, 1e-12), stepped = true;
-      } else {
-        lambda *= 10;
+        c = next, r = rn, lambda = acceptedStep(kFrameSchedule, lambda);
+        break;
       }
+      if (lambda >= kFrameSchedule.max) return c;  // no step helps: a minimum
+      lambda = rejectedStep(kFrameSchedule, lambda);
     }
-    if (!stepped) break;
   }
   return c;
 }

@@ -481,8 +481,8 @@ bool withinLimits(const std::vector<PotGuess>& guesses, const MinimumMove& move,
 // Whether a and b put every frame's joints at the same angles, modulo whole
 // turns.
 bool sameTurns(const RowMatrix& a, const RowMatrix& b) {
-  return (a - b).unaryExpr([](double d) { return std::remainder(d, 2 * M_PI); }).cwiseAbs().maxCoeff() <
-         1e-9;
+  const auto offTurns = [](double d) { return std::abs(std::remainder(d, 2 * M_PI)); };
+  return (a - b).unaryExpr(offTurns).maxCoeff() < 1e-9;
 }
 }  // namespace
 
