@@ -39,7 +39,9 @@ def configure_and_build(build):
          "-DSTAC_BUILD_BENCHMARKS=OFF", "-DSTAC_PYTHON=OFF",
          "-DSTAC_ROBOTS_DIR=" + (robots if os.path.isdir(robots) else "")],
         stdout=subprocess.DEVNULL)
-    run(["cmake", "--build", build])
+    built = subprocess.run(["cmake", "--build", build], capture_output=True, text=True)
+    if built.returncode != 0:
+        sys.exit(built.stdout[-4000:] + built.stderr[-4000:])
 
 
 def clear_counters(build):
