@@ -60,24 +60,25 @@ case "${1:-}" in
     configure_build build -DCMAKE_BUILD_TYPE=Release
     (cd build && ctest --output-on-failure -j "$jobs" -LE long)
     # Memory errors and undefined behaviour fail CI too: unit tests under
-    # AddressSanitizer + UBSan, except those in test/asan_exclude.txt (the
-    # packaging tests, whose consumers link without the sanitizer runtime, and
-    # the external-robot, humanoid38, free-seed, panda-mirror, chain-flip and
-    # TIAGo four-point-fold calibrations (with or without joint origins),
-    # 15-50x slower under ASan (13-16 min each for the first three, 6.5 min
-    # for the folds with origins, whose folds then come near their 120 s
-    # timeout) and covering no code that the hand24, arm, chain, UR5-origin
-    # and one-point TIAGo calibrations do not; they all run in the Release
-    # pass above), 13 more calibrations (the tail of the list: hand crawls,
-    # tree searches, verdict and spike-screen runs, 1478 s of the pass's
-    # 2339 s) that reach only 5 source lines the rest of the pass does not,
-    # two loop exits and an assignment (gcov over src/ apps/ include/:
-    # scripts/asan_coverage.py), and the
-    # gradient checks of the monolithic costs: ASan reports an overflow inside
-    # Eigen's aligned free when the test destroys the results that libceres's
-    # GradientChecker filled (an allocation/free mismatch at the Ceres-Eigen
-    # boundary, not in our code; the costs themselves run under ASan in the
-    # --method joint calibrations).
+    # AddressSanitizer + UBSan, except those in test/asan_exclude.txt. Every
+    # excluded test still runs in the Release pass above.
+    #  - The packaging tests: their consumers link without the sanitizer
+    #    runtime.
+    #  - The external-robot, humanoid38, free-seed, panda-mirror, chain-flip
+    #    and TIAGo-fold calibrations: 15-50x slower under ASan (13-16 min each
+    #    for the first three; the four-point folds with origins came near
+    #    their 120 s timeout). They cover no code that the hand24, arm,
+    #    chain and UR5-origin calibrations do not.
+    #  - 13 more calibrations, the tail of the list (hand crawls, tree
+    #    searches, verdict and spike-screen runs): 1478 s of the pass's 2339 s.
+    #    By gcov over src/ apps/ include/ they reach only 5 source lines the
+    #    rest of the pass does not, two loop exits and an assignment
+    #    (scripts/asan_coverage.py measures it).
+    #  - The gradient checks of the monolithic costs: ASan reports an overflow
+    #    inside Eigen's aligned free when the test destroys the results that
+    #    libceres's GradientChecker filled. That is an allocation/free mismatch
+    #    at the Ceres-Eigen boundary, not in our code; the costs themselves
+    #    run under ASan in the --method joint calibrations.
     # Line tables only (-g1): ASan's reports still name file and line, and the
     # build takes about 15% less time and a third of the disk (3.2 against 11 GB).
     configure_build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTAC_SANITIZE=ON \
