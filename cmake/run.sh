@@ -64,8 +64,8 @@ case "${1:-}" in
     # excluded test still runs in the Release pass above.
     #  - The packaging tests: their consumers link without the sanitizer
     #    runtime.
-    #  - The external-robot, humanoid38, free-seed, panda-mirror, chain-flip
-    #    and TIAGo-fold calibrations: 15-50x slower under ASan (13-16 min each
+    #  - The external-robot, humanoid38, free-seed, panda-mirror, chain-flip,
+    #    Z1-placement and TIAGo-fold calibrations: 15-50x slower under ASan (13-16 min each
     #    for the first three; the four-point folds with origins came near
     #    their 120 s timeout). They cover no code that the hand24, arm,
     #    chain and UR5-origin calibrations do not.

@@ -257,6 +257,11 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
         std::printf(" %.4g/%.4g", r.summary.after_rms[g], rt.summary.after_rms[g]);
       std::printf(", iterations %d/%d, from truth: %s\n", r.summary.iterations, rt.summary.iterations,
                   rt.summary.unidentifiable.empty() ? "identifiable" : rt.summary.unidentifiable[0].reason.c_str());
+      for (const auto& d : r.summary.unidentifiable) {
+        std::printf("    undetermined: %s:", d.reason.c_str());
+        for (const auto& p : d.parameters) std::printf(" %s", p.c_str());
+        std::printf("\n");
+      }
       // Per joint: the estimate's angles against the truth's (mean offset,
       // and the slope of a fit estimate = a + slope truth: -1 a mirror).
       for (int j = 0; j < robot.model.dof(); ++j) {
@@ -264,8 +269,8 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
         const double te = t.mean(), ee = e.mean();
         const double var = (t - te).square().sum();
         const double slope = var > 0 ? ((t - te) * (e - ee)).sum() / var : 0.0;
-        std::printf("    q%-3d mean %+.3f offset %+.4f slope %+.3f range %.3f\n", j, te,
-                    ee - te, slope, t.maxCoeff() - t.minCoeff());
+        std::printf("    q%-3d mean %+.3f offset %+.4f slope %+.3f range %.3f  est %.3f..%.3f\n", j, te,
+                    ee - te, slope, t.maxCoeff() - t.minCoeff(), e.minCoeff(), e.maxCoeff());
       }
       const SensorSet& ss = robot.truth.sensors;
       for (size_t m = 0; m < ss.markers.size(); ++m)

@@ -95,7 +95,9 @@ TEST(SettledRun, AHandCrawlingAlongItsThumbsTradeOffAtTheLimitIsConverged) {
       test::replayBasinTruth(robot, test::Variant::kPartialSwings, 13, LossKind::kHuber, o, 2);
   std::string why;
   EXPECT_TRUE(test::withinReportedStd(robot.truth.sensors, truth, r, &why)) << why;
-  EXPECT_EQ(r.summary.iterations, o.max_iterations);  // the limit stopped it
+  // The limit stopped it: the run from its jump (after 30 iterations), whose
+  // budget is the limit anew, after 200.
+  EXPECT_GE(r.summary.iterations, o.max_iterations);
   EXPECT_TRUE(r.summary.converged);
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
   EXPECT_FALSE(r.summary.unidentifiable.empty());  // the thumb's trade-off

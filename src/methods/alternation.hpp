@@ -23,6 +23,7 @@ struct LoopOutcome {
   bool converged = false;
   bool paused = false;  // `pause` asked to stop
   double scale_change = 0;  // the last iteration's relative σ step (0: not adapted)
+  int limit = 0;  // the iteration count at which this run's budget ran out
 };
 
 // The alternation from `st` (the last pass at the current σ) until the

@@ -148,25 +148,32 @@ std::vector<std::vector<bool>> mirrorPatterns(const RobotModel& robot,
   return patterns;
 }
 
+namespace {
+// The guess on the nearest joint above guess i's in the tree that has one
+// (-1: none).
+int guessAbove(const RobotModel& robot, const std::vector<PotGuess>& guesses, int i) {
+  std::vector<int> guess_of_q(robot.dof(), -1);
+  for (size_t g = 0; g < guesses.size(); ++g) guess_of_q[guesses[g].column] = static_cast<int>(g);
+  const int movable = robot.qJoints()[guesses[i].column];
+  const std::vector<int>& chain = robot.supportingJoints(robot.movableJoints()[movable].child_link);
+  for (int k = static_cast<int>(chain.size()) - 2; k >= 0; --k) {
+    const MovableJoint& above = robot.movableJoints()[chain[k]];
+    if (!above.is_mimic && guess_of_q[above.q_index] >= 0) return guess_of_q[above.q_index];
+  }
+  return -1;
+}
+}  // namespace
+
 // Two wrong signs in a row (e.g. a wrist's pitch and roll) can each look
 // right alone, since flipping either one by itself moves the markers
 // farther: hence the pairs.
 std::vector<std::vector<int>> signMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses) {
   std::vector<std::vector<int>> moves;
-  std::vector<int> guess_of_q(robot.dof(), -1);
-  for (size_t i = 0; i < guesses.size(); ++i) guess_of_q[guesses[i].column] = static_cast<int>(i);
   for (size_t i = 0; i < guesses.size(); ++i) moves.push_back({static_cast<int>(i)});
   for (size_t i = 0; i < guesses.size(); ++i) {
-    const int movable = robot.qJoints()[guesses[i].column];
-    const std::vector<int>& chain =
-        robot.supportingJoints(robot.movableJoints()[movable].child_link);
-    for (int k = static_cast<int>(chain.size()) - 2; k >= 0; --k) {
-      const MovableJoint& above = robot.movableJoints()[chain[k]];
-      if (above.is_mimic || guess_of_q[above.q_index] < 0) continue;
-      moves.push_back({guess_of_q[above.q_index], static_cast<int>(i)});
-      break;
-    }
+    const int above = guessAbove(robot, guesses, static_cast<int>(i));
+    if (above >= 0) moves.push_back({above, static_cast<int>(i)});
   }
   return moves;
 }
@@ -210,27 +217,36 @@ namespace {
 struct LimitedGuess {
   int index;
   bool mostly_at_limit;
+  bool mostly_beyond;  // beyond the URDF's limits (not only the widened ones)
 };
 std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
                                          const std::vector<PotGuess>& guesses,
                                          const RowMatrix& q) {
   const std::vector<int> at_limit = jointsOftenAtLimit(robot, q, 0.5);
+  const auto beyond = beyondLimits(robot, q);
   std::vector<LimitedGuess> out;
   for (int i = 0; i < static_cast<int>(guesses.size()); ++i) {
     const int j = guesses[i].column;
     if (guesses[i].bias_held || !std::isfinite(robot.upperLimits()[j] - robot.lowerLimits()[j]))
       continue;
-    out.push_back({i, std::find(at_limit.begin(), at_limit.end(), j) != at_limit.end()});
+    out.push_back({i, std::find(at_limit.begin(), at_limit.end(), j) != at_limit.end(),
+                   often(static_cast<double>(beyond.col(j).count()), static_cast<double>(q.rows()), 0.5)});
   }
   return out;
 }
 
-// Shifts guess g's joint's motion in q so that its middle is its limits'
-// middle, and the pot's bias with it (recentreMoves).
-void recentre(const RobotModel& robot, const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
+// Shifts guess g's joint's motion in q into its limits, its middle `place`
+// of the way from the lowest middle that keeps it within them to the
+// highest (the limits' middle where it spans more than they do), and the
+// pot's bias with it (recentreMoves).
+void recentre(const RobotModel& robot, const PotGuess& g, double place, SensorParameters* theta,
+              RowMatrix* q) {
   const int j = g.column;
-  const double shift = 0.5 * (robot.lowerLimits()[j] + robot.upperLimits()[j]) -
-                       0.5 * (q->col(j).maxCoeff() + q->col(j).minCoeff());
+  const double lo = robot.lowerLimits()[j], hi = robot.upperLimits()[j];
+  const double half = 0.5 * (q->col(j).maxCoeff() - q->col(j).minCoeff());
+  const double middle = hi - lo > 2 * half ? lo + half + place * (hi - lo - 2 * half)
+                                           : 0.5 * (lo + hi);
+  const double shift = middle - 0.5 * (q->col(j).maxCoeff() + q->col(j).minCoeff());
   q->col(j).array() += shift;
   GainBias& gb = theta->joint_sensor[g.sensor];
   gb.bias -= gb.gain * shift;
@@ -253,11 +269,25 @@ std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
                                        const std::vector<PotGuess>& guesses, const RowMatrix& q) {
   std::vector<MinimumMove> moves;
   if (q.rows() == 0) return moves;
-  for (const LimitedGuess& g : limitedGuesses(robot, guesses, q)) {
-    if (!g.mostly_at_limit) continue;
-    MinimumMove move;
-    move.recentre = {g.index};
-    moves.push_back(std::move(move));
+  const std::vector<LimitedGuess> limited = limitedGuesses(robot, guesses, q);
+  const auto placements = [&](MinimumMove move, int i) {
+    move.recentre = {i};
+    for (int k = 0; k < kPlacements; ++k) {
+      move.place = k / (kPlacements - 1.0);
+      moves.push_back(move);
+    }
+  };
+  for (const LimitedGuess& g : limited) {
+    if (!g.mostly_beyond) continue;
+    placements({}, g.index);
+    // The joint above, placed, with g's mirrored and centred in its limits.
+    const int above = guessAbove(robot, guesses, g.index);
+    const bool limited_above = std::any_of(limited.begin(), limited.end(),
+                                           [&](const LimitedGuess& a) { return a.index == above; });
+    if (!limited_above || touchesFixed(guesses, {g.index})) continue;
+    MinimumMove mirrored;
+    mirrored.flip = mirrored.recentre_below = {g.index};
+    placements(mirrored, above);
   }
   return moves;
 }
@@ -471,7 +501,8 @@ void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
   for (int i : move.half_turn) turn(robot, guesses[i], 1, theta, q);
   for (int i : move.whole_turn) turn(robot, guesses[i], 2, theta, q);
   for (int i : move.wrap) wrapAngles(guesses[i], q);
-  for (int i : move.recentre) recentre(robot, guesses[i], theta, q);
+  for (int i : move.recentre) recentre(robot, guesses[i], move.place, theta, q);
+  for (int i : move.recentre_below) recentre(robot, guesses[i], 0.5, theta, q);
 }
 
 }  // namespace stac

@@ -363,7 +363,7 @@ bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesse
                     const MinimumMove& move, const LimitFrames& before, const RowMatrix& moved) {
   if (!move.whole_turn.empty() || !move.recentre.empty()) {
     const auto moved_at_limit = atWidenedLimit(robot, moved);
-    for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre})
+    for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre, &move.recentre_below})
       for (int i : *shifted) {
         const int j = guesses[i].column;
         if (moved_at_limit.col(j).count() < before.at.col(j).count()) return true;

@@ -143,13 +143,17 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 // The guesses `wrap`: each frame's angle moved by whole turns into the one
 // turn cut in the widest arc the angles leave empty (wrapMoves), the pots' maps then
 // re-fitted (WideBasin::moveTo). The guesses `recentre`: the joint's motion
-// shifted so that its middle is the limits' middle (recentreMoves), θ then
-// re-fitted to the moved angles.
+// shifted so that it lies within the limits, its middle `place` of the way
+// from the lowest such middle to the highest (0.5: the limits' middle;
+// recentreMoves), θ then re-fitted to the moved angles.
 struct MinimumMove {
   std::vector<int> flip, half_turn, whole_turn;
   bool flip_about_zero = false;  // its mirrors always about the joints' zeros (applyMove)
   std::vector<int> wrap = {};  // (a default: the other moves' braces leave it out)
   std::vector<int> recentre = {};
+  double place = 0.5;
+  // Guesses below `recentre` placed in their limits' middle (after `flip`).
+  std::vector<int> recentre_below = {};
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
@@ -191,13 +195,20 @@ std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<Po
                                    const RowMatrix& q);
 // Each guess on a joint with finite limits whose angles in q sit at or
 // beyond them in most frames: its motion shifted, the pot's bias with it,
-// so that the middle of its motion is the middle of the limits. Where
-// nothing but a marker on the joint's own link sees its absolute angle,
-// a constant shift of the angle is taken up by that marker's position, and
-// a fit can end with the whole motion beyond a limit at the truth's cost:
-// the bundled hand on partial swings (basin truth 4 of noise draw 2), its
-// ring finger's last joint beyond its limit in 498 of 500 frames, 1.4 rad
-// off, flagged. No discrete jump brings it back.
+// into the limits, its middle at kPlacements places spread over the
+// middles that keep it within them. Where nothing but a marker on the
+// joint's own link sees its absolute angle, a constant shift of the angle
+// is taken up by that marker's position, and a fit can end with the whole
+// motion beyond a limit at the truth's cost: the bundled hand on partial
+// swings (basin truth 4 of noise draw 2), its ring finger's last joint
+// beyond its limit in 498 of 500 frames, 1.4 rad off, flagged. Where a
+// short swing of a joint below sees it (an unseen Unitree Z1's roll above
+// its gripper, swung over 0.44 rad), the shift is only weakly pinned and
+// has several minima: the roll ended 4.8 rad off, beyond its limits in
+// most frames, the gripper's map mirrored, fitting as well as the truth;
+// from the limits' middle the truth (1.8 rad from it) was not reached, from
+// the nearest of five places it is. No discrete jump brings either back.
+constexpr int kPlacements = 5;
 std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
                                        const std::vector<PotGuess>& guesses, const RowMatrix& q);
 // The move's mirrors are about each column's mean, or with
