@@ -193,21 +193,25 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
 // such move that fits better.
 std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                    const RowMatrix& q);
-// Each guess on a joint with finite limits whose angles in q sit at or
-// beyond them in most frames: its motion shifted, the pot's bias with it,
-// into the limits, its middle at kPlacements places spread over the
-// middles that keep it within them. Where nothing but a marker on the
-// joint's own link sees its absolute angle, a constant shift of the angle
-// is taken up by that marker's position, and a fit can end with the whole
-// motion beyond a limit at the truth's cost: the bundled hand on partial
-// swings (basin truth 4 of noise draw 2), its ring finger's last joint
-// beyond its limit in 498 of 500 frames, 1.4 rad off, flagged. Where a
-// short swing of a joint below sees it (an unseen Unitree Z1's roll above
-// its gripper, swung over 0.44 rad), the shift is only weakly pinned and
-// has several minima: the roll ended 4.8 rad off, beyond its limits in
-// most frames, the gripper's map mirrored, fitting as well as the truth;
-// from the limits' middle the truth (1.8 rad from it) was not reached, from
-// the nearest of five places it is. No discrete jump brings either back.
+// Each guess on a joint with finite limits whose angles in q lie beyond
+// the URDF's limits in most frames: its motion shifted, the pot's bias with
+// it, into the limits, its middle at kPlacements places spread over the
+// middles that keep it within them; and the guessed joint above it placed
+// so, with it mirrored and in its limits' middle. Where nothing but a
+// marker on the joint's own link sees its absolute angle, a constant shift
+// of the angle is taken up by that marker's position, and a fit can end
+// with the whole motion beyond a limit at the truth's cost: the bundled
+// hand on partial swings (basin truth 4 of noise draw 2), its ring
+// finger's last joint beyond its limit in 498 of 500 frames, 1.4 rad off,
+// flagged. Where a short swing of the joint below is all that sees it (an
+// unseen Unitree Z1's roll above its gripper, swung over 0.44 rad), the
+// angle is weakly pinned and has several minima, the joint below's map
+// mirrored and rescaled in the wrong ones: the roll ended 4.8 rad off and
+// beyond its limits in most frames (fresh truth 9), or the gripper beyond
+// its own in every frame (truth 8), at the truth's cost. From the limits'
+// middle truth 9 (1.8 rad from it) was not reached; from the nearest of
+// five places, the gripper mirrored, it is. No discrete jump brings any
+// of them back. None that changes a held bias.
 constexpr int kPlacements = 5;
 std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
                                        const std::vector<PotGuess>& guesses, const RowMatrix& q);
