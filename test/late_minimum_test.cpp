@@ -10,7 +10,8 @@
 //    gripper 4.8 (1.6) rad off, the gripper's short swing mirrored and
 //    rescaled, at the truth's cost; the roll's or the gripper's motion
 //    beyond its limits in most frames (recentreMoves: placements over the
-//    limits, the joint above placed with the one below mirrored).
+//    limits, the joint above placed with the one below mirrored); seed 13's
+//    truth 0 (flagged) the gripper's motion wider than its limits.
 // And the iteration limit's budget anew for a jump's run (goOnIfBetter).
 #include <gtest/gtest.h>
 
@@ -62,6 +63,7 @@ TEST(LateMinimum, ARollAboveAShortGripperSwingIsPlacedBackInItsLimits) {
   expectReached(z1, 9, 11);  // the roll beyond its limits, the gripper mirrored
   expectReached(z1, 8, 11);  // only the gripper beyond them
   expectReached(z1, 7, 7);
+  expectReached(z1, 0, 13);  // the gripper's motion 7.3 rad wide, its map 24x too flat
 }
 
 // Finger Edu truth 4 converges first after 13 iterations, jumps twice
@@ -143,6 +145,25 @@ TEST(Placements, AMotionBeyondItsLimitsIsPlacedOverThemAndTheJointAboveWithItMir
     EXPECT_NEAR(middle(q, 3), 0.0, 1e-9);
     EXPECT_NEAR(q(0, 3) - q(1, 3), -(c.q(0, 3) - c.q(1, 3)), 1e-9);
   }
+  // A motion wider than the limits: shrunk to half their span, centred,
+  // the pot's predictions kept (its map rescaled).
+  RowMatrix wide = c.q;
+  const double mid3 = middle(c.q, 3);
+  wide.col(3) = (mid3 + 8 * (c.q.col(3).array() - mid3)).matrix();
+  SensorParameters theta = c.truth.theta;
+  GainBias& map = theta.joint_sensor[guesses[g4].sensor];
+  map.bias += map.gain * mid3 * (1 - 1.0 / 8);
+  map.gain /= 8;
+  const SensorParameters wide_theta = theta;
+  const std::vector<MinimumMove> shrink = recentreMoves(c.robot, guesses, wide);
+  ASSERT_FALSE(shrink.empty());
+  RowMatrix q = wide;
+  applyMove(c.robot, guesses, shrink[0], &theta, &q);
+  const double span = c.robot.upperLimits()[3] - c.robot.lowerLimits()[3];
+  EXPECT_NEAR(q.col(3).maxCoeff() - q.col(3).minCoeff(), 0.5 * span, 1e-9);
+  EXPECT_NEAR(middle(q, 3), 0.0, 1e-9);
+  EXPECT_LT((predictions(theta, q, g4) - predictions(wide_theta, wide, g4)).cwiseAbs().maxCoeff(),
+            1e-9);
   // Within the limits, or with the bias held, no placement.
   RowMatrix inside = c.q;
   inside.col(3).array() -= 2.5;

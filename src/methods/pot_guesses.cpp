@@ -237,19 +237,26 @@ std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
 
 // Shifts guess g's joint's motion in q into its limits, its middle `place`
 // of the way from the lowest middle that keeps it within them to the
-// highest (the limits' middle where it spans more than they do), and the
-// pot's bias with it (recentreMoves).
+// highest, and the pot's map with it (recentreMoves). A motion wider than
+// the limits, which true angles never leave, has a wrong scale: it is
+// shrunk about its middle to half their span (a free gain only) and
+// centred (an unseen Z1 on partial swings, fresh seed 13 truth 0: its
+// gripper's pot gain 24 times too small and mirrored, the motion 7.3 rad
+// wide against limits 1.57 apart).
 void recentre(const RobotModel& robot, const PotGuess& g, double place, SensorParameters* theta,
               RowMatrix* q) {
   const int j = g.column;
   const double lo = robot.lowerLimits()[j], hi = robot.upperLimits()[j];
   const double half = 0.5 * (q->col(j).maxCoeff() - q->col(j).minCoeff());
-  const double middle = hi - lo > 2 * half ? lo + half + place * (hi - lo - 2 * half)
-                                           : 0.5 * (lo + hi);
-  const double shift = middle - 0.5 * (q->col(j).maxCoeff() + q->col(j).minCoeff());
-  q->col(j).array() += shift;
+  const double was = 0.5 * (q->col(j).maxCoeff() + q->col(j).minCoeff());
+  const bool wide = !(hi - lo > 2 * half);
+  const double k = wide && !g.fixed && half > 0 ? 0.25 * (hi - lo) / half : 1.0;
+  const double middle = wide ? 0.5 * (lo + hi) : lo + half + place * (hi - lo - 2 * half);
+  // q' = middle + k (q - was); p = g q + b = (g / k) q' + b + g was - (g / k) middle.
+  q->col(j) = (middle + k * (q->col(j).array() - was)).matrix();
   GainBias& gb = theta->joint_sensor[g.sensor];
-  gb.bias -= gb.gain * shift;
+  gb.bias += gb.gain * was - gb.gain / k * middle;
+  gb.gain /= k;
 }
 }  // namespace
 
