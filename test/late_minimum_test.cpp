@@ -85,6 +85,25 @@ TEST(LateMinimum, AJumpsRunHasTheLimitsBudgetAnew) {
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }
 
+// hand24 partial, fresh seed 13 truth 10: a jump's run crawls to its limit
+// in another minimum of the middle finger (a marker's median error 1.76x
+// its σ's, the truth's own fit 1.2x better in marker RMS), settled, its
+// trade-off listed undetermined: verdict ok before; now suspect, as a crawl
+// that converged only after many iterations still misfitting.
+TEST(LateMinimum, ACrawlTheLimitStoppedStillMisfittingIsSuspect) {
+  const test::Robot hand = test::bundledRobot("hand24", 500);
+  SensorParameters truth;
+  CalibrationOptions o;
+  o.threads = 2;
+  const CalibrationResult r = replay(hand, 10, 13, &truth, o);
+  EXPECT_TRUE(r.summary.converged);
+  EXPECT_GT(r.summary.iterations, o.max_iterations);
+  ASSERT_TRUE(r.summary.suspect());
+  EXPECT_NE(r.summary.verdict[0].find("converged only after"), std::string::npos)
+      << r.summary.verdict[0];
+  EXPECT_NE(r.summary.verdict[0].find("m_middle_"), std::string::npos) << r.summary.verdict[0];
+}
+
 // The chain's j4 (±1.5) moved 2.5 rad up, beyond its limit in most frames.
 struct J4Beyond : test::ChainLog {
   J4Beyond() : ChainLog(true, 5, {}) { q.col(3).array() += 2.5; }
