@@ -65,9 +65,9 @@ case "${1:-}" in
     #  - The packaging tests: their consumers link without the sanitizer
     #    runtime.
     #  - The external-robot, humanoid38, free-seed, panda-mirror, chain-flip,
-    #    Z1-placement, hand-crawl and TIAGo-fold calibrations: 15-50x slower under ASan (13-16 min each
-    #    for the first three; the four-point folds with origins came near
-    #    their 120 s timeout). They cover no code that the hand24, arm,
+    #    Z1-placement, hand-crawl and TIAGo-fold calibrations: 15-50x slower
+    #    under ASan (13-16 min each for the first three; the four-point folds
+    #    with origins came near their 120 s timeout). They cover no code that the hand24, arm,
     #    chain and UR5-origin calibrations do not.
     #  - 13 more calibrations, the tail of the list (hand crawls, tree
     #    searches, verdict and spike-screen runs): 1478 s of the pass's 2339 s.

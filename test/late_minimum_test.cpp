@@ -15,6 +15,7 @@
 // And the iteration limit's budget anew for a jump's run (goOnIfBetter).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -176,6 +177,10 @@ TEST(Placements, AMotionBeyondItsLimitsIsPlacedOverThemAndTheJointAboveWithItMir
   const SensorParameters wide_theta = theta;
   const std::vector<MinimumMove> shrink = recentreMoves(c.robot, guesses, wide);
   ASSERT_FALSE(shrink.empty());
+  // One placement of it (every place would shrink it alike), then j3's.
+  EXPECT_EQ(std::count_if(shrink.begin(), shrink.end(),
+                          [&](const MinimumMove& m) { return m.recentre.at(0) == g4; }),
+            1);
   RowMatrix q = wide;
   applyMove(c.robot, guesses, shrink[0], &theta, &q);
   const double span = c.robot.upperLimits()[3] - c.robot.lowerLimits()[3];

@@ -229,8 +229,9 @@ std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
     const int j = guesses[i].column;
     if (guesses[i].bias_held || !std::isfinite(robot.upperLimits()[j] - robot.lowerLimits()[j]))
       continue;
+    const double rows = static_cast<double>(q.rows());
     out.push_back({i, std::find(at_limit.begin(), at_limit.end(), j) != at_limit.end(),
-                   often(static_cast<double>(beyond.col(j).count()), static_cast<double>(q.rows()), 0.5)});
+                   often(static_cast<double>(beyond.col(j).count()), rows, 0.5)});
   }
   return out;
 }
@@ -277,10 +278,15 @@ std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
   std::vector<MinimumMove> moves;
   if (q.rows() == 0) return moves;
   const std::vector<LimitedGuess> limited = limitedGuesses(robot, guesses, q);
+  // kPlacements of guess i's motion; one where it is wider than the limits
+  // (recentre shrinks and centres it wherever `place` says).
   const auto placements = [&](MinimumMove move, int i) {
+    const int j = guesses[i].column;
+    const bool fits = robot.upperLimits()[j] - robot.lowerLimits()[j] >
+                      q.col(j).maxCoeff() - q.col(j).minCoeff();
     move.recentre = {i};
-    for (int k = 0; k < kPlacements; ++k) {
-      move.place = k / (kPlacements - 1.0);
+    for (int k = 0; k < (fits ? kPlacements : 1); ++k) {
+      move.place = fits ? k / (kPlacements - 1.0) : 0.5;
       moves.push_back(move);
     }
   };
