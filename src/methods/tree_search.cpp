@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "methods/regression.hpp"
+#include "stac/kinematics.hpp"
 #include "solve/theta_phase.hpp"
 
 namespace stac {
@@ -29,6 +30,9 @@ constexpr double kStartScales[] = {1.0, 0.5, 0.25};
 constexpr int kStartIterations = 15;
 constexpr int kSearchFrames = 80;
 constexpr int kMinFrames = 20;
+// Base markers closer than this (m) to a line through another one are on
+// it: a marker's place on its link is known to about its seed's few cm.
+constexpr double kLineSpan = 0.01;
 
 // One stage: the guesses whose maps it searches, and the markers in its fit.
 struct Stage {
@@ -242,6 +246,65 @@ std::optional<Fit> searchInOrder(const MeasurementModel& model, const Observatio
   return std::move(beam.front());
 }
 
+// The mocap frames the search starts from: the seed's, and where the
+// base's markers leave a turn of the world open, the seed's turned half a
+// turn about that line. The first stages see the base's markers and those
+// of the first links only; with one base marker (or several on one line)
+// the fit cannot tell a world turned half a turn about the line through it
+// and the limb's root, the first joints mirrored with it, from the truth,
+// and every start is refined from the seed's frame: an unseen Bravo 7 on a
+// Falcon ROV, its base's one marker 0.73 m from the arm's first joint,
+// partial swings, ended in 3 of 10 truths with joints 1-3 mirrored, the
+// mocap frame ~π off and the markers at 3.7x their σ, flagged; from the
+// truth's frame all three reached the truth. (The turn about the line
+// through p with direction d: x -> R_d(π) (x - p) + p, composed before the
+// frame's own map.)
+std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
+                                         const SensorParameters& seed) {
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  std::vector<SensorParameters> out = {seed};
+  if (sensors.mocap_frame_fixed.any()) return out;
+  KinematicsWorkspace ws(robot);
+  forwardKinematics(robot, Eigen::VectorXd::Zero(robot.dof()), &ws);
+  std::vector<Eigen::Vector3d> base;  // the base's markers, in its frame
+  for (size_t m = 0; m < sensors.markers.size(); ++m)
+    if (robot.supportingJoints(sensors.markers[m].link).empty())
+      base.push_back(ws.link_pose[sensors.markers[m].link] * seed.marker_position[m]);
+  if (base.empty()) return out;
+  // The line: through two base markers far apart, else through the one and
+  // the limbs' roots' middle.
+  const Eigen::Vector3d p = base.front();
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& b : base)
+    if ((b - p).norm() > d.norm()) d = b - p;
+  if (d.norm() < kLineSpan) {
+    Eigen::Vector3d roots = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int j = 0; j < robot.dof(); ++j) {
+      const int mj = robot.qJoints()[j];
+      if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() != 1) continue;
+      roots += ws.joint_origin[mj];
+      ++n;
+    }
+    if (n == 0) return out;
+    d = roots / n - p;
+    if (d.norm() < kLineSpan) return out;
+  }
+  d.normalize();
+  for (const Eigen::Vector3d& b : base) {  // three base markers off the line pin the turn
+    const Eigen::Vector3d off = (b - p) - (b - p).dot(d) * d;
+    if (off.norm() >= kLineSpan) return out;
+  }
+  const Eigen::Matrix3d turn = 2 * d * d.transpose() - Eigen::Matrix3d::Identity();
+  SensorParameters turned = seed;
+  const Eigen::Matrix3d R = seed.mocap.rotation.toRotationMatrix();
+  turned.mocap.rotation = Eigen::Quaterniond(R * turn).normalized();
+  turned.mocap.translation = seed.mocap.translation + R * (p - turn * p);
+  out.push_back(std::move(turned));
+  return out;
+}
+
 }  // namespace
 
 // Depth first (each limb to its end before the next; among siblings, in
@@ -309,15 +372,17 @@ std::optional<Candidate> treeOrderMaps(const MeasurementModel& model, const Obse
   // Neither order is best everywhere (treeOrder): where they differ, both
   // are searched and the better final fit kept (the same frames, markers
   // and pots in the last stage's fit: comparable costs).
+  // So are the seed's mocap frame and its turn (seedFrames).
   const std::vector<int> depth_first = treeOrder(robot, true);
   const std::vector<int> breadth_first = treeOrder(robot, false);
-  std::optional<Fit> best = searchInOrder(model, frames, loss, guesses, seed, threads, sources,
-                                          planStages(model, guess_of, depth_first));
-  if (breadth_first != depth_first)
-    if (std::optional<Fit> other = searchInOrder(model, frames, loss, guesses, seed, threads,
-                                                 sources,
-                                                 planStages(model, guess_of, breadth_first)))
-      if (!best || other->cost < best->cost) best = std::move(other);
+  std::vector<std::vector<Stage>> plans = {planStages(model, guess_of, depth_first)};
+  if (breadth_first != depth_first) plans.push_back(planStages(model, guess_of, breadth_first));
+  std::optional<Fit> best;
+  for (const SensorParameters& from : seedFrames(model, seed))
+    for (const std::vector<Stage>& stages : plans)
+      if (std::optional<Fit> fit =
+              searchInOrder(model, frames, loss, guesses, from, threads, sources, stages))
+        if (!best || fit->cost < best->cost) best = std::move(fit);
   if (!best) return std::nullopt;
   Candidate out;
   for (const PotGuess& g : guesses) out.maps.push_back(toPotMap(g, best->p.inverse[g.sensor]));
