@@ -5,6 +5,7 @@
 #include <cmath>
 #include <kdl/treefksolverpos_recursive.hpp>
 #include <random>
+#include <string>
 
 #include "stac/error.hpp"
 #include "stac/kinematics.hpp"
@@ -105,6 +106,26 @@ TEST(RobotModel, LinkOfJointNamesTheLinkAJointAttaches) {
   EXPECT_EQ(m.linkOfJoint("tip_joint"), m.linkIndex("tip"));  // a fixed joint too
   EXPECT_FALSE(m.linkOfJoint("upper"));  // a link's name is not a joint's
   EXPECT_FALSE(m.linkOfJoint(""));       // the root has no joint
+}
+
+// A <limit> with effort and velocity only reads as lower = upper = 0 (the
+// URDF default): limits that span nothing bound nothing, and the revolute
+// joint turns freely, as MuJoCo's importer reads it (an unseen quadruped's
+// knees); so does one whose lower lies above its upper.
+TEST(RobotModel, LimitsThatSpanNothingMakeARevoluteJointContinuous) {
+  std::string urdf = kPlanar2;
+  const std::string limits = R"(<limit lower="-3" upper="3" effort="1" velocity="1"/>)";
+  urdf.replace(urdf.find(limits), limits.size(), R"(<limit effort="1" velocity="1"/>)");
+  urdf.replace(urdf.find(limits), limits.size(), R"(<limit lower="1" upper="-1" effort="1" velocity="1"/>)");
+  const RobotModel m = RobotModel::fromString(urdf);
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_FALSE(std::isfinite(m.lowerLimits()[j])) << j;
+    EXPECT_FALSE(std::isfinite(m.upperLimits()[j])) << j;
+    EXPECT_EQ(m.movableJoints()[m.qJoints()[j]].type, JointType::kContinuous) << j;
+  }
+  const RobotModel limited = RobotModel::fromString(kPlanar2);  // the same with limits
+  EXPECT_EQ(limited.lowerLimits()[1], -3);
+  EXPECT_EQ(limited.movableJoints()[limited.qJoints()[1]].type, JointType::kRevolute);
 }
 
 TEST(RobotModel, PointJacobiansMatchFiniteDifferencesOnEveryRobot) {

@@ -134,7 +134,17 @@ void UrdfLoader::readJoints(RobotModel& m, const io::UrdfDocument& doc, const Ur
     mj.type = xj.type == "prismatic"    ? JointType::kPrismatic
               : xj.type == "continuous" ? JointType::kContinuous
                                         : JointType::kRevolute;
-    if (uj->limits && mj.type != JointType::kContinuous) {
+    // Limits that span nothing bound nothing: a <limit> with only effort
+    // and velocity reads as lower = upper = 0 (the URDF default), which
+    // MuJoCo's importer leaves unlimited (an unseen quadruped's knees,
+    // written so; held at 0 by the q-phase's box, a log that moves them
+    // could not be fitted). A revolute joint so is a continuous one (its
+    // pots' biases then known modulo a turn, as any continuous joint's);
+    // a joint the log holds still is reported so (still_joints.hpp), not
+    // by its limits.
+    const bool spans = uj->limits && uj->limits->upper > uj->limits->lower;
+    if (mj.type == JointType::kRevolute && !spans) mj.type = JointType::kContinuous;
+    if (spans && mj.type != JointType::kContinuous) {
       mj.lower = uj->limits->lower;
       mj.upper = uj->limits->upper;
       mj.has_limits = true;

@@ -6,6 +6,7 @@
 
 #include "methods/method.hpp"
 #include "methods/mirror_ambiguity.hpp"
+#include "methods/still_joints.hpp"
 #include "methods/turn_ambiguity.hpp"
 #include "methods/verdict.hpp"
 #include "solve/pass.hpp"
@@ -108,6 +109,8 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   std::copy(out.after_rms, out.after_rms + kNumSensorGroups, summary.after_rms);
   summary.unidentifiable = std::move(out.uncertainty.unidentifiable);
   for (UnidentifiableDirection& d : turnAmbiguities(model, result.theta, out.q))
+    summary.unidentifiable.push_back(std::move(d));
+  for (UnidentifiableDirection& d : stillJoints(model, fitted, problem.seed_noise))
     summary.unidentifiable.push_back(std::move(d));
   for (UnidentifiableDirection& d :
        mirrorAmbiguities(problem, fitted, result.theta, out.noise, q, out.uncertainty.std))

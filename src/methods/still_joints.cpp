@@ -1,0 +1,42 @@
+// Pots on joints the log does not move (see still_joints.hpp).
+#include "methods/still_joints.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace stac {
+
+std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
+                                                 const Observations& obs,
+                                                 const NoiseModel& seed_noise) {
+  const SensorSet& sensors = model.sensors();
+  std::vector<UnidentifiableDirection> out;
+  for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
+    const JointSensorConfig& sc = sensors.joint_sensors[s];
+    const double sigma = seed_noise.joint[s];
+    if (sc.fixed.any() || !(sigma > 0) || obs.joint.cols() <= static_cast<Eigen::Index>(s))
+      continue;
+    double sum = 0, sum2 = 0;
+    int n = 0;
+    for (Eigen::Index t = 0; t < obs.joint.rows(); ++t) {
+      const double p = obs.joint(t, static_cast<Eigen::Index>(s));
+      if (!std::isfinite(p)) continue;
+      sum += p, sum2 += p * p, ++n;
+    }
+    if (n < 2) continue;
+    const double mean = sum / n;
+    const double spread = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+    if (spread > kStillSpread * sigma) continue;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%.3g against a sigma of %.3g", spread, sigma);
+    const std::string joint = model.robot().movableJoints()[sc.joint].name;
+    out.push_back({{"joint_sensors." + sc.name + ".gain", "joint_sensors." + sc.name + ".bias"},
+                   sc.name + "'s readings vary by no more than their noise (std " + buf +
+                       "): the log does not move joint " + joint + ", so its gain, and its " +
+                       "bias with it, are not in the data; log a motion of " + joint});
+  }
+  return out;
+}
+
+}  // namespace stac

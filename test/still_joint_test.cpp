@@ -1,0 +1,72 @@
+// A pot on a joint the log holds still (still_joints.hpp): its readings
+// vary by their noise alone, so its gain (and its bias with it) is not in
+// the data. The result lists both as undetermined, with an infinite std and
+// a reason naming the joint; the rest still reaches the truth and the
+// verdict is ok. A joint that moves, however little beyond its pot's
+// noise, is not listed.
+#include "methods/still_joints.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "stac/calibrate.hpp"
+#include "support/basin_draws.hpp"
+#include "support/chain_fixture.hpp"
+
+namespace stac {
+namespace {
+
+bool listsStillPot(const std::vector<UnidentifiableDirection>& dirs, const std::string& pot,
+                   const std::string& joint) {
+  return std::any_of(dirs.begin(), dirs.end(), [&](const UnidentifiableDirection& d) {
+    const auto has = [&](const std::string& p) {
+      return std::find(d.parameters.begin(), d.parameters.end(), p) != d.parameters.end();
+    };
+    return has("joint_sensors." + pot + ".gain") && has("joint_sensors." + pot + ".bias") &&
+           d.reason.find("does not move joint " + joint) != std::string::npos;
+  });
+}
+
+// The chain with j2 held at 0.3 rad: its pot reads 2.1 * 0.3 - 0.7 plus
+// noise of σ 0.01 in every frame.
+TEST(StillJoint, APotOnAJointTheLogHoldsStillHasItsGainAndBiasListedUndetermined) {
+  const test::ChainLog c(true, 3, {{1, 0.3, 0.3}});
+  const NoiseModel seed = NoiseModel::fromSeeds(c.truth.sensors);
+  const auto listed = stillJoints(c.model, c.obs, seed);
+  ASSERT_EQ(listed.size(), 1u);
+  EXPECT_TRUE(listsStillPot(listed, "j2_pot", "j2"));
+
+  CalibrationOptions o;
+  o.threads = 2;
+  SensorParameters start = c.truth.theta;  // the paper's seeding of the pots
+  for (GainBias& gb : start.joint_sensor) gb = {1.0, 0.0};
+  const CalibrationResult r = calibrate(c.robot, c.truth.sensors, start, c.obs, o);
+  EXPECT_TRUE(listsStillPot(r.summary.unidentifiable, "j2_pot", "j2"));
+  EXPECT_TRUE(std::isinf(r.std.joint_sensor[1].gain));
+  EXPECT_TRUE(std::isinf(r.std.joint_sensor[1].bias));
+  std::string why;
+  EXPECT_TRUE(test::withinReportedStd(c.truth.sensors, c.truth.theta, r, &why)) << why;
+  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
+}
+
+// j2 over 0.3..0.35 rad only: readings spread ~3x the pot's σ, a motion
+// the data see; nothing listed.
+TEST(StillJoint, AJointThatMovesALittleIsNotListed) {
+  const test::ChainLog c(true, 3, {{1, 0.3, 0.35}});
+  EXPECT_TRUE(stillJoints(c.model, c.obs, NoiseModel::fromSeeds(c.truth.sensors)).empty());
+}
+
+// A held gain or bias pins the other from the readings' level: not listed.
+TEST(StillJoint, APotWithAHeldGainIsNotListed) {
+  const test::ChainLog c(true, 3, {{1, 0.3, 0.3}});
+  SensorSet held = c.truth.sensors;
+  held.joint_sensors[1].fixed.gain = true;
+  const MeasurementModel model(c.robot, held);
+  EXPECT_TRUE(stillJoints(model, c.obs, NoiseModel::fromSeeds(held)).empty());
+}
+
+}  // namespace
+}  // namespace stac
