@@ -52,10 +52,15 @@ TEST(StillJoint, APotOnAJointTheLogHoldsStillHasItsGainAndBiasListedUndetermined
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }
 
-// j2 over 0.3..0.35 rad only: readings spread ~3x the pot's σ, a motion
-// the data see; nothing listed.
-TEST(StillJoint, AJointThatMovesALittleIsNotListed) {
-  const test::ChainLog c(true, 3, {{1, 0.3, 0.35}});
+// j2 over 0.3..0.32 rad only: its readings spread about 1.5x the pot's
+// σ, a motion of the size of the noise that 400 frames see (the bundled
+// hand's narrow abductions on partial swings read 1.75-2x); not listed.
+TEST(StillJoint, AJointThatMovesByAboutItsPotsNoiseIsNotListed) {
+  const test::ChainLog c(true, 3, {{1, 0.3, 0.32}});
+  const Eigen::ArrayXd p = c.obs.joint.col(1).array();
+  const double spread = std::sqrt((p - p.mean()).square().mean());
+  EXPECT_GT(spread, 1.3 * 0.01);
+  EXPECT_LT(spread, 2.0 * 0.01);
   EXPECT_TRUE(stillJoints(c.model, c.obs, NoiseModel::fromSeeds(c.truth.sensors)).empty());
 }
 

@@ -1,6 +1,7 @@
 // Pots on joints the log does not move (see still_joints.hpp).
 #include "methods/still_joints.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -26,8 +27,10 @@ std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
     }
     if (n < 2) continue;
     const double mean = sum / n;
-    const double spread = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-    if (spread > kStillSpread * sigma) continue;
+    const double variance = std::max(0.0, sum2 / n - mean * mean);
+    const double bound = std::max(kStillSpread * kStillSpread, 1 + 3 * std::sqrt(2.0 / n));
+    if (variance > bound * sigma * sigma) continue;
+    const double spread = std::sqrt(variance);
     char buf[200];
     std::snprintf(buf, sizeof buf, "%.3g against a sigma of %.3g", spread, sigma);
     const std::string joint = model.robot().movableJoints()[sc.joint].name;

@@ -20,13 +20,17 @@
 namespace stac {
 
 // Readings whose std is at most this many times the sensor's seed σ come
-// from a joint that holds still: a margin for a seed σ set too small (noise
-// alone gives 1x; a third of a 0.5 rad range at a gain of 0.5 gives ~8x a
-// 0.01 σ's).
-constexpr double kStillSpread = 2.0;
+// from a joint that holds still: room for a seed σ a quarter too small
+// (noise alone gives 1x). Not more: a joint that moves by less than its
+// pot's noise over hundreds of frames still sets the gain (the bundled
+// hand's narrow abductions on partial swings read 1.75-2x, their gains
+// within their std; at 2x they were listed).
+constexpr double kStillSpread = 1.25;
 
 // One entry per joint sensor with a free gain and a free bias whose
-// readings in obs vary by at most kStillSpread times its σ in seed_noise.
+// readings in obs vary by at most kStillSpread times its σ in seed_noise
+// (or, over few readings, by at most what noise alone gives with 3 std of
+// its variance's sampling spread, √(2/n) σ²).
 std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
                                                  const Observations& obs,
                                                  const NoiseModel& seed_noise);
