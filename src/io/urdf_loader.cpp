@@ -139,9 +139,10 @@ void UrdfLoader::readJoints(RobotModel& m, const io::UrdfDocument& doc, const Ur
     // MuJoCo's importer leaves unlimited (an unseen quadruped's knees,
     // written so; held at 0 by the q-phase's box, a log that moves them
     // could not be fitted). A revolute joint so is a continuous one (its
-    // pots' biases then known modulo a turn, as any continuous joint's);
-    // a joint the log holds still is reported so (still_joints.hpp), not
-    // by its limits.
+    // pots' biases then known modulo a turn, as any continuous joint's), a
+    // prismatic one unbounded; so is one whose limits lock it (lower =
+    // upper): a joint the log holds still is reported so
+    // (still_joints.hpp), not by its limits.
     const bool spans = uj->limits && uj->limits->upper > uj->limits->lower;
     if (mj.type == JointType::kRevolute && !spans) mj.type = JointType::kContinuous;
     if (spans && mj.type != JointType::kContinuous) {

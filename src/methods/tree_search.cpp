@@ -278,24 +278,29 @@ std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
   Eigen::Vector3d d = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& b : base)
     if ((b - p).norm() > d.norm()) d = b - p;
+  std::vector<Eigen::Vector3d> roots;  // the limbs' first joints
+  for (int j = 0; j < robot.dof(); ++j) {
+    const int mj = robot.qJoints()[j];
+    if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() == 1)
+      roots.push_back(ws.joint_origin[mj]);
+  }
   if (d.norm() < kLineSpan) {
-    Eigen::Vector3d roots = Eigen::Vector3d::Zero();
-    int n = 0;
-    for (int j = 0; j < robot.dof(); ++j) {
-      const int mj = robot.qJoints()[j];
-      if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() != 1) continue;
-      roots += ws.joint_origin[mj];
-      ++n;
-    }
-    if (n == 0) return out;
-    d = roots / n - p;
+    if (roots.empty()) return out;
+    Eigen::Vector3d middle = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& r : roots) middle += r / static_cast<double>(roots.size());
+    d = middle - p;
     if (d.norm() < kLineSpan) return out;
   }
   d.normalize();
-  for (const Eigen::Vector3d& b : base) {  // three base markers off the line pin the turn
-    const Eigen::Vector3d off = (b - p) - (b - p).dot(d) * d;
-    if (off.norm() >= kLineSpan) return out;
-  }
+  const auto offLine = [&](const Eigen::Vector3d& x) {
+    return ((x - p) - (x - p).dot(d) * d).norm() >= kLineSpan;
+  };
+  // Three base markers off the line pin the turn; so do limbs rooted off
+  // it (a quadruped's hips about one base marker: turned, the legs land
+  // elsewhere), and the search from that turn would be spent for nothing.
+  if (std::any_of(base.begin(), base.end(), offLine) ||
+      std::any_of(roots.begin(), roots.end(), offLine))
+    return out;
   const Eigen::Matrix3d turn = 2 * d * d.transpose() - Eigen::Matrix3d::Identity();
   SensorParameters turned = seed;
   const Eigen::Matrix3d R = seed.mocap.rotation.toRotationMatrix();
