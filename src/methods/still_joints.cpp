@@ -18,17 +18,16 @@ std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
     const double sigma = seed_noise.joint[s];
     if (sc.fixed.any() || !(sigma > 0) || obs.joint.cols() <= static_cast<Eigen::Index>(s))
       continue;
-    double sum = 0, sum2 = 0;
-    int n = 0;
-    for (Eigen::Index t = 0; t < obs.joint.rows(); ++t) {
-      const double p = obs.joint(t, static_cast<Eigen::Index>(s));
-      if (!std::isfinite(p)) continue;
-      sum += p, sum2 += p * p, ++n;
-    }
+    // Two passes over the readings present (one pass loses the variance
+    // of raw counts with a large offset).
+    const Eigen::ArrayXd p = obs.joint.col(static_cast<Eigen::Index>(s)).array();
+    const auto present = p.isFinite();
+    const Eigen::Index n = present.count();
     if (n < 2) continue;
-    const double mean = sum / n;
-    const double variance = std::max(0.0, sum2 / n - mean * mean);
-    const double bound = std::max(kStillSpread * kStillSpread, 1 + 3 * std::sqrt(2.0 / n));
+    const double mean = present.select(p, 0.0).sum() / n;
+    const double variance = present.select((p - mean).square(), 0.0).sum() / n;
+    const double sampling = 3 * std::sqrt(2.0 / static_cast<double>(n));
+    const double bound = std::max(kStillSpread * kStillSpread, 1 + sampling);
     if (variance > bound * sigma * sigma) continue;
     const double spread = std::sqrt(variance);
     char buf[200];

@@ -30,8 +30,9 @@ constexpr double kStartScales[] = {1.0, 0.5, 0.25};
 constexpr int kStartIterations = 15;
 constexpr int kSearchFrames = 80;
 constexpr int kMinFrames = 20;
-// Base markers closer than this (m) to a line through another one are on
-// it: a marker's place on its link is known to about its seed's few cm.
+// Points closer than this (m) to a line lie on it: a base marker a
+// centimetre off the line moves by two under the half turn, ten times a
+// marker's typical noise, and so pins the turn.
 constexpr double kLineSpan = 0.01;
 
 // One stage: the guesses whose maps it searches, and the markers in its fit.
