@@ -69,8 +69,11 @@ case "${1:-}" in
     #    under ASan (13-16 min each for the first three; the four-point folds
     #    with origins came near their 120 s timeout). They cover no code that the hand24, arm,
     #    chain and UR5-origin calibrations do not.
-    #  - 13 more calibrations, the tail of the list (hand crawls, tree
-    #    searches, verdict and spike-screen runs): 1478 s of the pass's 2339 s.
+    #  - 13 more calibrations (hand crawls, tree searches, verdict and
+    #    spike-screen runs): 1478 s of the pass's 2339 s.
+    #  - BaseTurn's two Falcon calibrations (15 s each in Release; with them
+    #    CI took 2438 s against 1510 s before). The turned start they rely on
+    #    stays in the pass (BaseTurn's seedFrames tests).
     #    By gcov over src/ apps/ include/ they reach only 5 source lines the
     #    rest of the pass does not, two loop exits and an assignment
     #    (scripts/asan_coverage.py measures it).

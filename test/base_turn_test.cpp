@@ -10,8 +10,11 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
+#include "methods/tree_search.hpp"
 #include "stac/calibrate.hpp"
+#include "stac/kinematics.hpp"
 #include "support/basin_draws.hpp"
 
 namespace stac {
@@ -22,6 +25,60 @@ test::Robot falcon() {
       RobotModel::fromFile(std::string(STAC_SOURCE_DIR) +
                            "/test/fixtures/falcon_bravo7_kinematics.urdf"),
       600);
+}
+
+Eigen::Vector3d inMocap(const MocapFrame& f, const Eigen::Vector3d& x) {
+  return f.rotation * x + f.translation;
+}
+
+// The turned start itself, without a calibration (fast enough for the
+// sanitizer pass, which leaves the calibrations below out): the turned
+// frame maps the base's marker and the nearest point of the arm's first
+// axis where the seed's does, and differs from it by a half turn that
+// reverses that axis.
+TEST(BaseTurn, TheSearchAlsoStartsFromTheSeedTurnedAboutTheBaseMarkerAndTheArmsAxis) {
+  const test::Robot robot = falcon();
+  const MeasurementModel model(robot.model, robot.truth.sensors);
+  const SensorParameters& seed = robot.truth.theta;
+  const std::vector<SensorParameters> frames = seedFrames(model, seed);
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_TRUE(frames[0].mocap.rotation.isApprox(seed.mocap.rotation));
+  const MocapFrame& turned = frames[1].mocap;
+  KinematicsWorkspace ws(robot.model);
+  forwardKinematics(robot.model, Eigen::VectorXd::Zero(robot.model.dof()), &ws);
+  std::vector<Eigen::Vector3d> on_line;
+  const SensorSet& s = robot.truth.sensors;
+  for (size_t m = 0; m < s.markers.size(); ++m)
+    if (robot.model.supportingJoints(s.markers[m].link).empty())
+      on_line.push_back(ws.link_pose[s.markers[m].link] * seed.marker_position[m]);
+  ASSERT_EQ(on_line.size(), 1u);  // the ROV's one marker
+  // The point of the arm's first axis nearest that marker.
+  const int root = robot.model.qJoints()[0];
+  const Eigen::Vector3d a = ws.joint_axis[root].normalized();
+  const Eigen::Vector3d o = ws.joint_origin[root];
+  on_line.push_back(o + (on_line[0] - o).dot(a) * a);
+  ASSERT_GT((on_line[1] - on_line[0]).norm(), 0.5);
+  for (const Eigen::Vector3d& x : on_line)
+    EXPECT_LT((inMocap(turned, x) - inMocap(seed.mocap, x)).norm(), 1e-9) << x.transpose();
+  const Eigen::Matrix3d relative =
+      seed.mocap.rotation.toRotationMatrix().transpose() * turned.rotation.toRotationMatrix();
+  EXPECT_NEAR(relative.trace(), -1.0, 1e-9);  // a rotation by π
+  // ... which reverses the first joint's axis: its motion mirrored.
+  EXPECT_LT((relative * a + a).norm(), 1e-9);
+
+  // A frame the seed holds is not turned.
+  SensorSet held = s;
+  held.mocap_frame_fixed.rotation = true;
+  EXPECT_EQ(seedFrames(MeasurementModel(robot.model, held), seed).size(), 1u);
+}
+
+// Limbs rooted off the line (a quadruped's hips) pin the turn: no second start.
+TEST(BaseTurn, AQuadrupedsHipsPinTheTurn) {
+  const test::Robot robot = test::externalRobot(
+      RobotModel::fromFile(std::string(STAC_SOURCE_DIR) + "/test/fixtures/go1_kinematics.urdf"),
+      600);
+  const MeasurementModel model(robot.model, robot.truth.sensors);
+  EXPECT_EQ(seedFrames(model, robot.truth.theta).size(), 1u);
 }
 
 void expectReached(int index) {

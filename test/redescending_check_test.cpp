@@ -125,9 +125,28 @@ TEST(RedescendingCheck, ABiasKnownModuloATurnIsComparedModuloThatTurn) {
   const UnidentifiableDirection turn{{"joint_sensors." + name + ".bias"},
                                      name + "'s bias is known only modulo a turn"};
   EXPECT_EQ(lossDisagreement(a.model, huber, cauchyAt(cauchy, huber, {turn})), "");
-  // Another reason (a trade-off) is no licence to compare modulo a turn.
-  const UnidentifiableDirection other{{"joint_sensors." + name + ".bias"}, "trades off"};
+  // A turn of another parameter is no licence to compare this one modulo a
+  // turn.
+  const UnidentifiableDirection other{{"joint_sensors." + name + ".gain"},
+                                      name + "'s gain is known only modulo a turn"};
   EXPECT_NE(lossDisagreement(a.model, huber, cauchyAt(cauchy, huber, {other})), "");
+}
+
+// A parameter Cauchy's result lists as undetermined for any other reason (a
+// pot whose joint the log holds still, a null direction) is not compared:
+// its value contradicts nothing, though its local std is sharp.
+TEST_F(Shift, AParameterCauchysResultListsUndeterminedIsNotCompared) {
+  d[j] = 0.01 * 10 * kLossShiftStd;  // a gain ten times the threshold off
+  const std::string name = a.truth.sensors.joint_sensors[0].name;
+  const CauchyFit listed =
+      cauchyAt(space.plus(a.truth.theta, d), huber,
+               {{{"joint_sensors." + name + ".gain", "joint_sensors." + name + ".bias"},
+                 name + " does not move joint j1; log a motion of j1"}});
+  EXPECT_EQ(lossDisagreement(a.model, huber, listed), "");
+  int which = -1;
+  EXPECT_EQ(shiftInStd(a.model, huber, listed, huber.uncertainty.std, &which), 0.0);
+  // Unlisted, the same shift is a disagreement.
+  EXPECT_NE(disagreement(), "");
 }
 
 // A pot's bias on a continuous joint is the same fit a whole turn away

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -35,20 +36,31 @@ double shiftInStd(const MeasurementModel& model, const Outcome& huber, const Cau
   // or a pot's on a continuous joint, which the markers see only modulo a
   // turn: a whole turn apart is the same fit (an unseen TIAGo's wheel pot,
   // Huber's and Cauchy's biases a turn apart: "287 std", a false alarm).
+  // Any other parameter Cauchy's result lists as undetermined (a pot whose
+  // joint the log holds still, a null direction, one of two mirrors) has no
+  // value Huber's could contradict: its std there is +inf (result.cpp), and
+  // its sharp local std here would make a false alarm of any difference.
   Eigen::VectorXd period = Eigen::VectorXd::Zero(space.size());
+  Eigen::VectorXd in_std = std;
   const RobotModel& robot = model.robot();
   const auto& pots = model.sensors().joint_sensors;
   for (int i = 0; i < space.size(); ++i) {
     const ThetaEntry& e = space.entry(i);
+    const std::string& name = space.names()[i];
+    bool turns = false;
+    for (const UnidentifiableDirection& u : cauchy.unidentifiable) {
+      const bool turn = u.reason.find("modulo a turn") != std::string::npos &&
+                        !u.parameters.empty() && u.parameters[0] == name;
+      turns |= turn;
+      if (!turn && std::find(u.parameters.begin(), u.parameters.end(), name) != u.parameters.end())
+        in_std[i] = std::numeric_limits<double>::infinity();
+    }
     if (e.block != ThetaBlock::kJointSensor || e.component != 1) continue;
     const MovableJoint& mj = robot.movableJoints()[pots[e.item].joint];
-    bool turns = mj.type == JointType::kContinuous && !mj.is_mimic;
-    for (const UnidentifiableDirection& u : cauchy.unidentifiable)
-      turns |= u.reason.find("modulo a turn") != std::string::npos && !u.parameters.empty() &&
-               u.parameters[0] == space.names()[i];
+    turns |= mj.type == JointType::kContinuous && !mj.is_mimic;
     if (turns) period[i] = 2 * M_PI * std::abs(cauchy.theta.joint_sensor[e.item].gain);
   }
-  return largestShiftInStd(space, huber.theta, cauchy.theta, std, which, &period);
+  return largestShiftInStd(space, huber.theta, cauchy.theta, in_std, which, &period);
 }
 
 std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber,

@@ -50,7 +50,8 @@ struct CauchyFit {
 
 // The largest shift between Huber's and Cauchy's θ in units of `std` (per
 // θ entry), a bias Cauchy's result knows only modulo a turn compared modulo
-// that turn; *which: that entry's index.
+// that turn, any other parameter it lists undetermined not compared;
+// *which: that entry's index.
 double shiftInStd(const MeasurementModel& model, const Outcome& huber, const CauchyFit& cauchy,
                   const Eigen::VectorXd& std, int* which);
 

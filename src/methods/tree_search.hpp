@@ -40,6 +40,13 @@ std::optional<Candidate> treeOrderMaps(const MeasurementModel& model, const Obse
                                        const std::vector<PotGuess>& guesses,
                                        const SensorParameters& seed, int threads);
 
+// The mocap frames the search starts from: the seed's, and where the
+// base's markers leave the world's half turn about the line through them
+// and the limbs' roots open (one base marker, or several on that line, and
+// every limb rooted on it), the seed's frame turned so.
+std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
+                                         const SensorParameters& seed);
+
 // The q columns in a search order: each after every joint above it, depth
 // first (one limb to its end before the next) or breadth first (by the
 // number of joints above).
