@@ -110,7 +110,7 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
   summary.unidentifiable = std::move(out.uncertainty.unidentifiable);
   for (UnidentifiableDirection& d : turnAmbiguities(model, result.theta, out.q))
     summary.unidentifiable.push_back(std::move(d));
-  for (UnidentifiableDirection& d : stillJoints(model, fitted, problem.seed_noise))
+  for (UnidentifiableDirection& d : stillJoints(model, fitted, problem.seed_noise, out.noise))
     summary.unidentifiable.push_back(std::move(d));
   for (UnidentifiableDirection& d :
        mirrorAmbiguities(problem, fitted, result.theta, out.noise, q, out.uncertainty.std))

@@ -10,12 +10,14 @@ namespace stac {
 
 std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
                                                  const Observations& obs,
-                                                 const NoiseModel& seed_noise) {
+                                                 const NoiseModel& seed_noise,
+                                                 const NoiseModel& fitted_noise) {
   const SensorSet& sensors = model.sensors();
   std::vector<UnidentifiableDirection> out;
   for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
     const JointSensorConfig& sc = sensors.joint_sensors[s];
-    const double sigma = seed_noise.joint[s];
+    const double fitted = s < fitted_noise.joint.size() ? fitted_noise.joint[s] : 0.0;
+    const double sigma = std::max(seed_noise.joint[s], fitted);
     if (sc.fixed.any() || !(sigma > 0) || obs.joint.cols() <= static_cast<Eigen::Index>(s))
       continue;
     // Two passes over the readings present (one pass loses the variance

@@ -28,11 +28,16 @@ namespace stac {
 constexpr double kStillSpread = 1.25;
 
 // One entry per joint sensor with a free gain and a free bias whose
-// readings in obs vary by at most kStillSpread times its σ in seed_noise
-// (or, over few readings, by at most what noise alone gives with 3 std of
-// its variance's sampling spread, √(2/n) σ²).
+// readings in obs vary by at most kStillSpread times its σ (or, over few
+// readings, by at most what noise alone gives with 3 std of its variance's
+// sampling spread, √(2/n) σ²). Its σ: the larger of the seed's and the
+// fitted one (`fitted_noise`, the seed's scaled by its group's fitted
+// factor): a seed σ too small for the whole group would otherwise hide a
+// still pot, and the fit's σ of a pot whose angle nothing else sees
+// shrinks with its residuals.
 std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
                                                  const Observations& obs,
-                                                 const NoiseModel& seed_noise);
+                                                 const NoiseModel& seed_noise,
+                                                 const NoiseModel& fitted_noise);
 
 }  // namespace stac
