@@ -282,24 +282,10 @@ std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
   for (const Eigen::Vector3d& b : base)
     if ((b - p).norm() > d.norm()) d = b - p;
   std::vector<Eigen::Vector3d> roots;  // the limbs' first joints
-  std::vector<Eigen::Vector3d> axes;
   for (int j = 0; j < robot.dof(); ++j) {
     const int mj = robot.qJoints()[j];
-    if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() == 1) {
+    if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() == 1)
       roots.push_back(ws.joint_origin[mj]);
-      axes.push_back(ws.joint_axis[mj]);
-    }
-  }
-  // One limb: the turn that mirrors its first joint maps that joint's axis
-  // onto itself reversed, so its line meets the axis at a right angle: the
-  // point of the axis nearest the base's marker, not the joint's origin
-  // (a Falcon's base marker a few cm off the plane through the arm's root
-  // normal to its axis: about the line through the root, the search from
-  // the turned start ended at 3x the seed's cost, about this line at the
-  // seed's).
-  if (roots.size() == 1 && axes[0].norm() > 0) {
-    const Eigen::Vector3d a = axes[0].normalized();
-    roots[0] += (p - roots[0]).dot(a) * a;
   }
   if (d.norm() < kLineSpan) {
     if (roots.empty()) return out;
