@@ -71,12 +71,13 @@ case "${1:-}" in
     #    chain and UR5-origin calibrations do not.
     #  - 13 more calibrations (hand crawls, tree searches, verdict and
     #    spike-screen runs): 1478 s of the pass's 2339 s.
-    #  - BaseTurn's two Falcon calibrations (15 s each in Release; with them
-    #    CI took 2438 s against 1510 s before). The turned start they rely on
-    #    stays in the pass (BaseTurn's seedFrames tests).
     #    By gcov over src/ apps/ include/ they reach only 5 source lines the
     #    rest of the pass does not, two loop exits and an assignment
     #    (scripts/asan_coverage.py measures it).
+    #  - BaseTurn's two Falcon calibrations (246 s each under ASan, 15-18 s
+    #    in Release; with them CI took 2438 s against 1510 s before; their
+    #    coverage not re-measured). The turned start they rely on stays in
+    #    the pass (BaseTurn's seedFrames tests).
     #  - The gradient checks of the monolithic costs: ASan reports an overflow
     #    inside Eigen's aligned free when the test destroys the results that
     #    libceres's GradientChecker filled. That is an allocation/free mismatch

@@ -70,7 +70,14 @@ TEST(BaseTurn, AQuadrupedsHipsPinTheTurn) {
   const test::Robot robot = test::externalRobot(
       RobotModel::fromFile(std::string(STAC_SOURCE_DIR) + "/test/fixtures/go1_kinematics.urdf"),
       600);
-  const MeasurementModel model(robot.model, robot.truth.sensors);
+  const SensorSet& s = robot.truth.sensors;
+  // The premise: one base marker, the frame free (so only the hips pin it).
+  ASSERT_FALSE(s.mocap_frame_fixed.any());
+  int base_markers = 0;
+  for (const MarkerConfig& m : s.markers)
+    base_markers += robot.model.supportingJoints(m.link).empty();
+  ASSERT_EQ(base_markers, 1);
+  const MeasurementModel model(robot.model, s);
   EXPECT_EQ(seedFrames(model, robot.truth.theta).size(), 1u);
 }
 

@@ -125,6 +125,13 @@ TEST(RedescendingCheck, ABiasKnownModuloATurnIsComparedModuloThatTurn) {
   const UnidentifiableDirection turn{{"joint_sensors." + name + ".bias"},
                                      name + "'s bias is known only modulo a turn"};
   EXPECT_EQ(lossDisagreement(a.model, huber, cauchyAt(cauchy, huber, {turn})), "");
+  // Listed modulo a turn is still compared: what is left beyond the turn
+  // counts.
+  Eigen::VectorXd off = d;
+  off[b] += 0.01 * kLossShiftStd;  // a turn and 1 + kLossShiftStd std
+  EXPECT_NE(lossDisagreement(a.model, huber,
+                             cauchyAt(space.plus(a.truth.theta, off), huber, {turn})),
+            "");
   // A turn of another parameter is no licence to compare this one modulo a
   // turn.
   const UnidentifiableDirection other{{"joint_sensors." + name + ".gain"},
@@ -144,7 +151,11 @@ TEST_F(Shift, AParameterCauchysResultListsUndeterminedIsNotCompared) {
                  name + " does not move joint j1; log a motion of j1"}});
   EXPECT_EQ(lossDisagreement(a.model, huber, listed), "");
   int which = -1;
-  EXPECT_EQ(shiftInStd(a.model, huber, listed, huber.uncertainty.std, &which), 0.0);
+  EXPECT_EQ(shiftInStd(a.model, huber, listed, huber.uncertainty.std, &which, true), 0.0);
+  // The restart from Cauchy's end (reconcileWithCauchy) still sees it.
+  EXPECT_NEAR(shiftInStd(a.model, huber, listed, huber.uncertainty.std, &which, false),
+              10 * kLossShiftStd, 1e-6);
+  EXPECT_EQ(which, j);
   // Unlisted, the same shift is a disagreement.
   EXPECT_NE(disagreement(), "");
 }

@@ -79,6 +79,32 @@ TEST(StillJoint, ASeedSigmaTooSmallForTheGroupDoesNotHideAStillPot) {
   EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
 }
 
+// The bound's σ directly: the fitted σ counts where it is larger than the
+// seed's, up to twice it; a smaller one does not shrink the bound.
+TEST(StillJoint, TheBoundsSigmaIsTheSeedsOrTheFittedUpToTwiceTheSeeds) {
+  const test::ChainLog c(true, 3, {{1, 0.3, 0.3}});
+  SensorSet small = c.truth.sensors;
+  for (JointSensorConfig& js : small.joint_sensors) js.sigma /= 2;
+  const MeasurementModel model(c.robot, small);
+  const NoiseModel seed = NoiseModel::fromSeeds(small);
+  NoiseModel scaled = seed;
+  for (double& s : scaled.joint) s *= 2;
+  EXPECT_TRUE(listsStillPot(stillJoints(model, c.obs, seed, scaled), "j2_pot", "j2"));
+  EXPECT_TRUE(stillJoints(model, c.obs, seed, NoiseModel()).empty());
+  for (double& s : scaled.joint) s /= 4;  // half the seed's
+  EXPECT_TRUE(stillJoints(model, c.obs, seed, scaled).empty());
+  // Readings spreading 3.3x the seed σ (as a joint that moves would) are
+  // not listed by a fitted σ 3x the seed's, the most the verdict lets pass
+  // (uncapped, the bound would be 3.75x).
+  SensorSet quarter = c.truth.sensors;
+  for (JointSensorConfig& js : quarter.joint_sensors) js.sigma /= 3.3;
+  const MeasurementModel model4(c.robot, quarter);
+  const NoiseModel seed4 = NoiseModel::fromSeeds(quarter);
+  NoiseModel inflated = seed4;
+  for (double& s : inflated.joint) s *= 3;
+  EXPECT_TRUE(stillJoints(model4, c.obs, seed4, inflated).empty());
+}
+
 // j2 over 0.3..0.32 rad only: its readings spread about 1.5x the pot's
 // σ, a motion of the size of the noise that 400 frames see (the bundled
 // hand's narrow abductions on partial swings read 1.75-2x); not listed.

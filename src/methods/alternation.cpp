@@ -409,7 +409,7 @@ bool misfitsForRestart(const Problem& problem, const State& s,
 }
 
 // Where the base's markers leave the world's half turn open (seedFrames:
-// one base marker, the limb rooted on the line through it), a run can
+// one base marker or several on a line, every limb rooted on it), a run can
 // converge with the world turned and the limb mirrored with it, a minimum
 // that no jump reaches (the jumps move joints, not the world) and that
 // fits only a little worse: an unseen Borinot flying arm (two joints, one

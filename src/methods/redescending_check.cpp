@@ -30,16 +30,19 @@ double largestShiftInStd(const ThetaSpace& space, const SensorParameters& a,
 }
 
 double shiftInStd(const MeasurementModel& model, const Outcome& huber, const CauchyFit& cauchy,
-                  const Eigen::VectorXd& std, int* which) {
+                  const Eigen::VectorXd& std, int* which, bool skip_listed) {
   const ThetaSpace& space = model.thetaSpace();
+  *which = -1;
+  if (std.size() != space.size()) return 0;  // no uncertainty computed: nothing to measure in
   // A bias Cauchy's result knows only modulo a turn (turn_ambiguity.hpp),
   // or a pot's on a continuous joint, which the markers see only modulo a
   // turn: a whole turn apart is the same fit (an unseen TIAGo's wheel pot,
   // Huber's and Cauchy's biases a turn apart: "287 std", a false alarm).
-  // Any other parameter Cauchy's result lists as undetermined (a pot whose
-  // joint the log holds still, a null direction, one of two mirrors) has no
-  // value Huber's could contradict: its std there is +inf (result.cpp), and
-  // its sharp local std here would make a false alarm of any difference.
+  // With skip_listed, any other parameter Cauchy's result lists as
+  // undetermined (a pot whose joint the log holds still, a null direction,
+  // one of two mirrors) has no value Huber's could contradict: its std
+  // there is +inf (result.cpp), and its sharp local std here would make a
+  // false alarm of any difference.
   Eigen::VectorXd period = Eigen::VectorXd::Zero(space.size());
   Eigen::VectorXd in_std = std;
   const RobotModel& robot = model.robot();
@@ -52,7 +55,8 @@ double shiftInStd(const MeasurementModel& model, const Outcome& huber, const Cau
       const bool turn = u.reason.find("modulo a turn") != std::string::npos &&
                         !u.parameters.empty() && u.parameters[0] == name;
       turns |= turn;
-      if (!turn && std::find(u.parameters.begin(), u.parameters.end(), name) != u.parameters.end())
+      if (skip_listed && !turn &&
+          std::find(u.parameters.begin(), u.parameters.end(), name) != u.parameters.end())
         in_std[i] = std::numeric_limits<double>::infinity();
     }
     if (e.block != ThetaBlock::kJointSensor || e.component != 1) continue;
@@ -67,8 +71,8 @@ std::string lossDisagreement(const MeasurementModel& model, const Outcome& huber
                              const CauchyFit& cauchy) {
   const ThetaSpace& space = model.thetaSpace();
   int which = -1;
-  const double z =
-      shiftInStd(model, huber, cauchy, huber.uncertainty.std.cwiseMax(cauchy.std), &which);
+  const double z = shiftInStd(model, huber, cauchy, huber.uncertainty.std.cwiseMax(cauchy.std),
+                              &which, true);
   if (z <= kLossShiftStd) return {};
   char buf[96];
   std::snprintf(buf, sizeof buf, "%.3g", z);
@@ -151,7 +155,10 @@ Outcome reconcileWithCauchy(const MethodInput& in, Outcome huber, const CauchyFi
   huber.loss_disagreement = lossDisagreement(model, huber, cauchy);
   int which = -1;
   const Eigen::VectorXd sharper = huber.uncertainty.std.cwiseMin(cauchy.std);
-  if (shiftInStd(model, huber, cauchy, sharper, &which) <= kLossShiftStd) return huber;
+  // Every parameter counts here, listed or not: a restart from Cauchy's
+  // end costs a run, and a Huber end in the other of two mirrors Cauchy
+  // lists, or with a still pot's gain far off, may be a wrong minimum.
+  if (shiftInStd(model, huber, cauchy, sharper, &which, false) <= kLossShiftStd) return huber;
   // Where they differ in either fit's std, Cauchy's end is another start
   // for Huber's run: Huber's run may have ended in a wrong minimum its path
   // led to (the basin test's ur5 with 5% gross readings: a wrist pot's map

@@ -50,10 +50,12 @@ struct CauchyFit {
 
 // The largest shift between Huber's and Cauchy's θ in units of `std` (per
 // θ entry), a bias Cauchy's result knows only modulo a turn compared modulo
-// that turn, any other parameter it lists undetermined not compared;
-// *which: that entry's index.
+// that turn; with skip_listed, any other parameter it lists undetermined
+// not compared (the verdict's comparison; the restart from Cauchy's end
+// compares them). *which: that entry's index (-1: none). 0 where std does
+// not cover θ.
 double shiftInStd(const MeasurementModel& model, const Outcome& huber, const CauchyFit& cauchy,
-                  const Eigen::VectorXd& std, int* which);
+                  const Eigen::VectorXd& std, int* which, bool skip_listed);
 
 // The verdict reason when `huber`'s θ is more than kLossShiftStd from
 // `cauchy`'s (empty: they agree), each entry measured in the larger of the

@@ -2,6 +2,7 @@
 #include "methods/still_joints.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -13,11 +14,14 @@ std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
                                                  const NoiseModel& seed_noise,
                                                  const NoiseModel& fitted_noise) {
   const SensorSet& sensors = model.sensors();
+  assert(fitted_noise.joint.empty() ||
+         fitted_noise.joint.size() == sensors.joint_sensors.size());
   std::vector<UnidentifiableDirection> out;
   for (size_t s = 0; s < sensors.joint_sensors.size(); ++s) {
     const JointSensorConfig& sc = sensors.joint_sensors[s];
-    const double fitted = s < fitted_noise.joint.size() ? fitted_noise.joint[s] : 0.0;
-    const double sigma = std::max(seed_noise.joint[s], fitted);
+    const double fitted = fitted_noise.joint.empty() ? 0.0 : fitted_noise.joint[s];
+    const double sigma =
+        std::max(seed_noise.joint[s], std::min(fitted, kStillFittedCap * seed_noise.joint[s]));
     if (sc.fixed.any() || !(sigma > 0) || obs.joint.cols() <= static_cast<Eigen::Index>(s))
       continue;
     // Two passes over the readings present (one pass loses the variance

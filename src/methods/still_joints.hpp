@@ -26,15 +26,19 @@ namespace stac {
 // hand's narrow abductions on partial swings read 1.75-2x, their gains
 // within their std; at 2x they were listed).
 constexpr double kStillSpread = 1.25;
+constexpr double kStillFittedCap = 2.0;
 
 // One entry per joint sensor with a free gain and a free bias whose
 // readings in obs vary by at most kStillSpread times its σ (or, over few
 // readings, by at most what noise alone gives with 3 std of its variance's
 // sampling spread, √(2/n) σ²). Its σ: the larger of the seed's and the
-// fitted one (`fitted_noise`, the seed's scaled by its group's fitted
-// factor): a seed σ too small for the whole group would otherwise hide a
-// still pot, and the fit's σ of a pot whose angle nothing else sees
-// shrinks with its residuals.
+// fitted one (`fitted_noise`: the seed's scaled by its group's fitted
+// factor κ; empty: the seed's), the fitted one counted up to
+// kStillFittedCap times the seed's. A seed σ too small for the whole group
+// would otherwise hide a still pot; the seed's is the floor because κ
+// shrinks where the group's pots' residuals do (angles nothing else sees
+// fit their pots exactly); and the cap keeps a κ inflated by a wrong
+// minimum (the verdict allows up to 3x) from listing joints that move.
 std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
                                                  const Observations& obs,
                                                  const NoiseModel& seed_noise,
