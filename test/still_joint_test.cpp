@@ -30,6 +30,35 @@ bool listsStillPot(const std::vector<UnidentifiableDirection>& dirs, const std::
   });
 }
 
+// `sensors` with every pot's seed σ divided by k.
+SensorSet potSigmaOver(const SensorSet& sensors, double k) {
+  SensorSet out = sensors;
+  for (JointSensorConfig& js : out.joint_sensors) js.sigma /= k;
+  return out;
+}
+
+NoiseModel potSigmaTimes(NoiseModel noise, double k) {
+  for (double& s : noise.joint) s *= k;
+  return noise;
+}
+
+// The chain calibrated under `sensors` from the paper's seeding of the
+// pots: j2's pot listed undetermined with an infinite std, the rest within
+// its reported std of the truth, verdict ok.
+void expectCalibratedWithTheStillPotListed(const test::ChainLog& c, const SensorSet& sensors) {
+  CalibrationOptions o;
+  o.threads = 2;
+  SensorParameters start = c.truth.theta;
+  for (GainBias& gb : start.joint_sensor) gb = {1.0, 0.0};
+  const CalibrationResult r = calibrate(c.robot, sensors, start, c.obs, o);
+  EXPECT_TRUE(listsStillPot(r.summary.unidentifiable, "j2_pot", "j2"));
+  EXPECT_TRUE(std::isinf(r.std.joint_sensor[1].gain));
+  EXPECT_TRUE(std::isinf(r.std.joint_sensor[1].bias));
+  std::string why;
+  EXPECT_TRUE(test::withinReportedStd(c.truth.sensors, c.truth.theta, r, &why)) << why;
+  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
+}
+
 // The chain with j2 held at 0.3 rad: its pot reads 2.1 * 0.3 - 0.7 plus
 // noise of σ 0.01 in every frame.
 TEST(StillJoint, APotOnAJointTheLogHoldsStillHasItsGainAndBiasListedUndetermined) {
@@ -38,18 +67,7 @@ TEST(StillJoint, APotOnAJointTheLogHoldsStillHasItsGainAndBiasListedUndetermined
   const auto listed = stillJoints(c.model, c.obs, seed, seed);
   ASSERT_EQ(listed.size(), 1u);
   EXPECT_TRUE(listsStillPot(listed, "j2_pot", "j2"));
-
-  CalibrationOptions o;
-  o.threads = 2;
-  SensorParameters start = c.truth.theta;  // the paper's seeding of the pots
-  for (GainBias& gb : start.joint_sensor) gb = {1.0, 0.0};
-  const CalibrationResult r = calibrate(c.robot, c.truth.sensors, start, c.obs, o);
-  EXPECT_TRUE(listsStillPot(r.summary.unidentifiable, "j2_pot", "j2"));
-  EXPECT_TRUE(std::isinf(r.std.joint_sensor[1].gain));
-  EXPECT_TRUE(std::isinf(r.std.joint_sensor[1].bias));
-  std::string why;
-  EXPECT_TRUE(test::withinReportedStd(c.truth.sensors, c.truth.theta, r, &why)) << why;
-  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
+  expectCalibratedWithTheStillPotListed(c, c.truth.sensors);
 }
 
 // A seed σ half the pots' noise (within the verdict's 3x, so the run is
@@ -61,48 +79,31 @@ TEST(StillJoint, APotOnAJointTheLogHoldsStillHasItsGainAndBiasListedUndetermined
 // lists the pot.
 TEST(StillJoint, ASeedSigmaTooSmallForTheGroupDoesNotHideAStillPot) {
   const test::ChainLog c(true, 3, {{1, 0.3, 0.3}});
-  SensorSet small = c.truth.sensors;
-  for (JointSensorConfig& js : small.joint_sensors) js.sigma /= 2;
-  const MeasurementModel model(c.robot, small);
+  const SensorSet small = potSigmaOver(c.truth.sensors, 2);
   const NoiseModel seed = NoiseModel::fromSeeds(small);
-  EXPECT_TRUE(stillJoints(model, c.obs, seed, seed).empty());
-
-  CalibrationOptions o;
-  o.threads = 2;
-  SensorParameters start = c.truth.theta;
-  for (GainBias& gb : start.joint_sensor) gb = {1.0, 0.0};
-  const CalibrationResult r = calibrate(c.robot, small, start, c.obs, o);
-  EXPECT_TRUE(listsStillPot(r.summary.unidentifiable, "j2_pot", "j2"));
-  EXPECT_TRUE(std::isinf(r.std.joint_sensor[1].gain));
-  std::string why;
-  EXPECT_TRUE(test::withinReportedStd(c.truth.sensors, c.truth.theta, r, &why)) << why;
-  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
+  EXPECT_TRUE(stillJoints(MeasurementModel(c.robot, small), c.obs, seed, seed).empty());
+  expectCalibratedWithTheStillPotListed(c, small);
 }
 
 // The bound's σ directly: the fitted σ counts where it is larger than the
 // seed's, up to twice it; a smaller one does not shrink the bound.
 TEST(StillJoint, TheBoundsSigmaIsTheSeedsOrTheFittedUpToTwiceTheSeeds) {
   const test::ChainLog c(true, 3, {{1, 0.3, 0.3}});
-  SensorSet small = c.truth.sensors;
-  for (JointSensorConfig& js : small.joint_sensors) js.sigma /= 2;
+  const SensorSet small = potSigmaOver(c.truth.sensors, 2);
   const MeasurementModel model(c.robot, small);
   const NoiseModel seed = NoiseModel::fromSeeds(small);
-  NoiseModel scaled = seed;
-  for (double& s : scaled.joint) s *= 2;
-  EXPECT_TRUE(listsStillPot(stillJoints(model, c.obs, seed, scaled), "j2_pot", "j2"));
+  EXPECT_TRUE(
+      listsStillPot(stillJoints(model, c.obs, seed, potSigmaTimes(seed, 2)), "j2_pot", "j2"));
   EXPECT_TRUE(stillJoints(model, c.obs, seed, NoiseModel()).empty());
-  for (double& s : scaled.joint) s /= 4;  // half the seed's
-  EXPECT_TRUE(stillJoints(model, c.obs, seed, scaled).empty());
+  EXPECT_TRUE(stillJoints(model, c.obs, seed, potSigmaTimes(seed, 0.5)).empty());
   // Readings spreading 3.3x the seed σ (as a joint that moves would) are
   // not listed by a fitted σ 3x the seed's, the most the verdict lets pass
   // (uncapped, the bound would be 3.75x).
-  SensorSet quarter = c.truth.sensors;
-  for (JointSensorConfig& js : quarter.joint_sensors) js.sigma /= 3.3;
-  const MeasurementModel model4(c.robot, quarter);
-  const NoiseModel seed4 = NoiseModel::fromSeeds(quarter);
-  NoiseModel inflated = seed4;
-  for (double& s : inflated.joint) s *= 3;
-  EXPECT_TRUE(stillJoints(model4, c.obs, seed4, inflated).empty());
+  const SensorSet tight = potSigmaOver(c.truth.sensors, 3.3);
+  const NoiseModel seed_tight = NoiseModel::fromSeeds(tight);
+  EXPECT_TRUE(stillJoints(MeasurementModel(c.robot, tight), c.obs, seed_tight,
+                          potSigmaTimes(seed_tight, 3))
+                  .empty());
 }
 
 // j2 over 0.3..0.32 rad only: its readings spread about 1.5x the pot's
