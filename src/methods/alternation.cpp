@@ -408,7 +408,7 @@ bool misfitsForRestart(const Problem& problem, const State& s,
                            factor, factor);
 }
 
-// Where the base's markers leave the world's half turn open (seedFrames:
+// Where the base's markers leave the world's half turn open (openHalfTurn:
 // one base marker or several on a line, every limb rooted on it), a run can
 // converge with the world turned and the limb mirrored with it, a minimum
 // that no jump reaches (the jumps move joints, not the world) and that
@@ -418,7 +418,7 @@ bool misfitsForRestart(const Problem& problem, const State& s,
 // tree-order search starts from both turns, so there the restart is tried
 // from the jumps' own mark (kEscapeMisfit); it reached the truth.
 double treeRestartMisfit(const MethodInput& in) {
-  return seedFrames(in.problem.model, in.seed).size() > 1 ? kEscapeMisfit : kTreeRestartMisfit;
+  return openHalfTurn(in.problem.model, in.seed) ? kEscapeMisfit : kTreeRestartMisfit;
 }
 
 // The initialisation's tree-order start (tree_search.hpp), as a new run's

@@ -259,22 +259,19 @@ std::optional<Fit> searchInOrder(const MeasurementModel& model, const Observatio
 // Falcon ROV, its base's one marker 0.73 m from the arm's first joint,
 // partial swings, ended in 3 of 10 truths with joints 1-3 mirrored, the
 // mocap frame ~π off and the markers at 3.7x their σ, flagged; from the
-// truth's frame all three reached the truth. (The turn about the line
-// through p with direction d: x -> R_d(π) (x - p) + p, composed before the
-// frame's own map.)
-std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
-                                         const SensorParameters& seed) {
+// truth's frame all three reached the truth.
+std::optional<TurnLine> openHalfTurn(const MeasurementModel& model,
+                                     const SensorParameters& seed) {
   const RobotModel& robot = model.robot();
   const SensorSet& sensors = model.sensors();
-  std::vector<SensorParameters> out = {seed};
-  if (sensors.mocap_frame_fixed.any()) return out;
+  if (sensors.mocap_frame_fixed.any()) return std::nullopt;
   KinematicsWorkspace ws(robot);
   forwardKinematics(robot, Eigen::VectorXd::Zero(robot.dof()), &ws);
   std::vector<Eigen::Vector3d> base;  // the base's markers, in its frame
   for (size_t m = 0; m < sensors.markers.size(); ++m)
     if (robot.supportingJoints(sensors.markers[m].link).empty())
       base.push_back(ws.link_pose[sensors.markers[m].link] * seed.marker_position[m]);
-  if (base.empty()) return out;
+  if (base.empty()) return std::nullopt;
   // The line: through two base markers far apart, else through the one and
   // the limbs' roots' middle.
   const Eigen::Vector3d p = base.front();
@@ -288,11 +285,11 @@ std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
       roots.push_back(ws.joint_origin[mj]);
   }
   if (d.norm() < kLineSpan) {
-    if (roots.empty()) return out;
+    if (roots.empty()) return std::nullopt;
     Eigen::Vector3d middle = Eigen::Vector3d::Zero();
     for (const Eigen::Vector3d& r : roots) middle += r / static_cast<double>(roots.size());
     d = middle - p;
-    if (d.norm() < kLineSpan) return out;
+    if (d.norm() < kLineSpan) return std::nullopt;
   }
   d.normalize();
   const auto offLine = [&](const Eigen::Vector3d& x) {
@@ -303,7 +300,19 @@ std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
   // elsewhere), and the search from that turn would be spent for nothing.
   if (std::any_of(base.begin(), base.end(), offLine) ||
       std::any_of(roots.begin(), roots.end(), offLine))
-    return out;
+    return std::nullopt;
+  return TurnLine{p, d};
+}
+
+// The turn about the line through p with direction d:
+// x -> R_d(π) (x - p) + p, composed before the frame's own map.
+std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
+                                         const SensorParameters& seed) {
+  std::vector<SensorParameters> out = {seed};
+  const std::optional<TurnLine> line = openHalfTurn(model, seed);
+  if (!line) return out;
+  const Eigen::Vector3d& p = line->point;
+  const Eigen::Vector3d& d = line->direction;
   const Eigen::Matrix3d turn = 2 * d * d.transpose() - Eigen::Matrix3d::Identity();
   SensorParameters turned = seed;
   const Eigen::Matrix3d R = seed.mocap.rotation.toRotationMatrix();

@@ -40,10 +40,21 @@ std::optional<Candidate> treeOrderMaps(const MeasurementModel& model, const Obse
                                        const std::vector<PotGuess>& guesses,
                                        const SensorParameters& seed, int threads);
 
-// The mocap frames the search starts from: the seed's, and where the
-// base's markers leave the world's half turn about the line through them
-// and the limbs' roots open (one base marker, or several on that line, and
-// every limb rooted on it), the seed's frame turned so.
+// A line in the base's frame: a point on it and its unit direction.
+struct TurnLine {
+  Eigen::Vector3d point;
+  Eigen::Vector3d direction;
+};
+
+// The line about which the base's markers (at the seed's positions) leave
+// the world's half turn open: through them and the limbs' roots, where
+// there is one base marker, or several on that line, and every limb is
+// rooted on it; nullopt where they pin the turn, or the seed holds the
+// mocap frame.
+std::optional<TurnLine> openHalfTurn(const MeasurementModel& model, const SensorParameters& seed);
+
+// The mocap frames the search starts from: the seed's, and where
+// openHalfTurn finds a line, the seed's frame turned half a turn about it.
 std::vector<SensorParameters> seedFrames(const MeasurementModel& model,
                                          const SensorParameters& seed);
 
