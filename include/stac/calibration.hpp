@@ -27,9 +27,20 @@ struct ParameterStd {
   std::vector<OriginCorrection> joint_origin;  // std of each component
 };
 
+// Why the data leave a direction open: what a fit that sits anywhere along
+// it says about where the joints' motions lie.
+enum class Undetermined {
+  kNull,         // exactly null: a gauge, any value fits alike
+  kWeak,         // determined, but too weakly for a std (the data still prefer a value)
+  kModuloTurn,   // a bias known only modulo a whole turn
+  kStillJoint,   // the log does not move the joint (its angle comes from other readings)
+  kMirror,       // a discrete alternative (a mirror configuration) fits as well
+};
+
 struct UnidentifiableDirection {
   std::vector<std::string> parameters;  // e.g. "joint_sensors.pan_pot.bias"
   std::string reason;                   // one human sentence
+  Undetermined kind = Undetermined::kNull;
 };
 
 // With a prior on the joint-origin corrections: which components of one

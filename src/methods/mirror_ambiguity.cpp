@@ -76,6 +76,7 @@ std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
                "so the parameters listed have two equally good values; hold a "
                "marker on one of those links at its known position, or log poses near the "
                "joints' limits";
+    d.kind = Undetermined::kMirror;
     out.push_back(std::move(d));
   }
   return out;

@@ -42,7 +42,8 @@ std::vector<UnidentifiableDirection> stillJoints(const MeasurementModel& model,
     out.push_back({{"joint_sensors." + sc.name + ".gain", "joint_sensors." + sc.name + ".bias"},
                    sc.name + "'s readings vary by no more than their noise (std " + buf +
                        "): the log does not move joint " + joint + ", so its gain, and its " +
-                       "bias with it, are not in the data; log a motion of " + joint});
+                       "bias with it, are not in the data; log a motion of " + joint,
+                   Undetermined::kStillJoint});
   }
   return out;
 }

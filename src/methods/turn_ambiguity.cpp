@@ -50,7 +50,8 @@ std::vector<UnidentifiableDirection> turnAmbiguities(const MeasurementModel& mod
     out.push_back({{"joint_sensors." + sc.name + ".bias"},
                    robot.qName(j) + "'s limits span more than a turn and the log's motion " +
                        "would fit a whole turn away too, so " + sc.name + "'s bias is known only modulo a turn (2π·gain = " + buf +
-                       "); fix the bias, or log a pose near a limit"});
+                       "); fix the bias, or log a pose near a limit",
+                   Undetermined::kModuloTurn});
   }
   return out;
 }

@@ -193,28 +193,13 @@ void checkMarkers(const MethodInput& in, const CalibrationResult& r,
   }
 }
 
-// Whether the data leave where joint j's motion lies open (the bias of a
-// pot on it is listed unidentifiable, e.g. a lift's bias against the mocap
-// translation): its frames at a limit then show where the fit drifted to,
-// not a wrong minimum.
-bool placementUndetermined(const RobotModel& robot, const CalibrationResult& r, int j) {
-  for (const JointSensorConfig& js : r.sensors.joint_sensors) {
-    if (robot.movableJoints()[js.joint].q_index != j) continue;
-    const std::string bias = "joint_sensors." + js.name + ".bias";
-    for (const UnidentifiableDirection& d : r.summary.unidentifiable)
-      if (std::find(d.parameters.begin(), d.parameters.end(), bias) != d.parameters.end())
-        return true;
-  }
-  return false;
-}
-
 void checkLimits(const MethodInput& in, const Outcome& out, const Fit& fit,
                  const CalibrationResult& r, std::vector<std::string>* why) {
   const RobotModel& robot = in.problem.model.robot();
   const auto at = atWidenedLimit(robot, fit.q);
   const double frames = static_cast<double>(fit.q.rows());
   for (int j : jointsOftenAtLimit(robot, fit.q, kSuspectShareAtLimit)) {
-    if (placementUndetermined(robot, r, j)) continue;
+    if (placementUndetermined(robot, r.sensors, r.summary.unidentifiable, j)) continue;
     const int beyond = framesBeyondLimit(in.problem.model, out.theta, out.noise,
                                          in.problem.loss, fit.obs, fit.q, at, j);
     if (beyond < 3 || beyond <= kSuspectShareAtLimit * frames) continue;
@@ -229,6 +214,19 @@ void checkLimits(const MethodInput& in, const Outcome& out, const Fit& fit,
 }
 
 }  // namespace
+
+bool placementUndetermined(const RobotModel& robot, const SensorSet& sensors,
+                           const std::vector<UnidentifiableDirection>& listed, int j) {
+  for (const JointSensorConfig& js : sensors.joint_sensors) {
+    if (robot.movableJoints()[js.joint].q_index != j) continue;
+    const std::string bias = "joint_sensors." + js.name + ".bias";
+    for (const UnidentifiableDirection& d : listed)
+      if (d.kind != Undetermined::kWeak && d.kind != Undetermined::kStillJoint &&
+          std::find(d.parameters.begin(), d.parameters.end(), bias) != d.parameters.end())
+        return true;
+  }
+  return false;
+}
 
 std::vector<int> jointsOftenAtLimit(const RobotModel& robot, const RowMatrix& q, double share) {
   const auto at = atWidenedLimit(robot, q);

@@ -63,6 +63,20 @@ std::vector<int> jointsOftenBeyondLimits(const MeasurementModel& model,
                                          const RobustLoss& loss, const Observations& obs,
                                          const RowMatrix& q, double share);
 
+// Whether the data leave where joint j's motion lies open: the bias of a
+// pot on it is `listed` exactly null (a lift's bias against the mocap
+// translation), known modulo a turn, or in a mirror configuration that fits
+// as well. Its frames at a limit then show where the fit drifted to, not a
+// wrong minimum, and the limit check passes it. Not a bias listed only
+// weakly determined, nor a still pot's: the data still place the joint's
+// motion, and a wrong minimum can sit there (an unseen Unitree B1 on
+// partial swings, fresh seed 13's truth 3: a calf whose marker lies near
+// the knee's axis converged with its motion mirrored at half scale, below
+// the knee's lower limit in 169 of 600 frames, the calf pot's gain and bias
+// listed as trading off, the thigh's marker 10 std off, verdict ok).
+bool placementUndetermined(const RobotModel& robot, const SensorSet& sensors,
+                           const std::vector<UnidentifiableDirection>& listed, int j);
+
 // The frames a method fitted (all of the log's, or the classical
 // regression's usable ones) and their q.
 struct Fit {

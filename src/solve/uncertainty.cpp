@@ -107,6 +107,7 @@ UnidentifiableDirection describeDirection(const ThetaSpace& space, const SensorP
     reason += joint_axis;
   }
   dir.reason = reason;
+  dir.kind = exactly_null ? Undetermined::kNull : Undetermined::kWeak;
   return dir;
 }
 
