@@ -15,9 +15,17 @@ namespace {
 // A flip matches where the bottom link's pose does, on kSamples spread
 // configurations: three generic ones leave no centres exact by accident.
 constexpr int kSamples = 3;
-// Exact: every coordinate of the pose (metres, and rotation-matrix entries)
-// within this; an inexact flip misses by the links' offsets, millimetres.
-constexpr double kExact = 1e-8;
+// Exact enough: every coordinate of the pose (metres, and rotation-matrix entries)
+// within this. An inexact flip misses by the links' offsets, centimetres
+// (a Jaco's shoulder: 1.6 and 11 mm offsets), yet a URDF's rounding and a
+// sub-millimetre offset leave a mirror that the markers' noise hides (an
+// unseen Hextilt flying arm's wrist, its next link turned by "1.5708" and
+// offset by 0.25 mm: 0.5 mm off at its best centres). Those are as good a
+// start for the jump, which refines from there, as an exact one.
+constexpr double kMirrorTolerance = 1e-3;
+// Columns from which the centres' starts (below) are the two uniform ones
+// only, not every combination.
+constexpr int kMaxCombinedStarts = 4;
 
 // The movable joint a column drives (its master; mimic followers move with it).
 int movableOf(const RobotModel& robot, int column) { return robot.qJoints()[column]; }
@@ -89,13 +97,13 @@ class FlipMismatch {
   std::vector<Eigen::Isometry3d> poses_;
 };
 
-// Levenberg-Marquardt on the centres from zero (the frames' damping
+// Levenberg-Marquardt on the centres from `c` (the frames' damping
 // policy, lm_damping.hpp: a handful of angles, as a frame's), with a
 // forward-difference Jacobian: the mismatch is smooth and periodic.
-Eigen::VectorXd leastMismatch(FlipMismatch& mismatch, int n) {
+Eigen::VectorXd leastMismatch(FlipMismatch& mismatch, Eigen::VectorXd c) {
   constexpr int kMaxSteps = 60;
   constexpr double kDelta = 1e-7;  // the difference step, radians
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
+  const int n = static_cast<int>(c.size());
   Eigen::VectorXd r = mismatch(c);
   double lambda = 1e-3;
   for (int it = 0; it < kMaxSteps && r.squaredNorm() > 0; ++it) {
@@ -123,6 +131,26 @@ Eigen::VectorXd leastMismatch(FlipMismatch& mismatch, int n) {
   return c;
 }
 
+// The starts of the search: each centre at 0 or π/2, in every combination
+// for a few columns (two uniform starts beyond). One start is not enough:
+// the mismatch is periodic in each centre, and where a link is turned a
+// quarter turn in the URDF its exact centre is π/2 and zero its worst,
+// where the gradient vanishes (the Hextilt's wrist, above).
+std::vector<Eigen::VectorXd> centreStarts(int n) {
+  std::vector<Eigen::VectorXd> starts;
+  if (n > kMaxCombinedStarts) {
+    starts.push_back(Eigen::VectorXd::Zero(n));
+    starts.push_back(Eigen::VectorXd::Constant(n, M_PI / 2));
+    return starts;
+  }
+  for (int mask = 0; mask < (1 << n); ++mask) {
+    Eigen::VectorXd c(n);
+    for (int i = 0; i < n; ++i) c[i] = (mask >> i & 1) ? M_PI / 2 : 0.0;
+    starts.push_back(c);
+  }
+  return starts;
+}
+
 }  // namespace
 
 std::optional<std::vector<double>> exactMirrorCentres(const RobotModel& robot,
@@ -139,8 +167,18 @@ std::optional<std::vector<double>> exactMirrorCentres(const RobotModel& robot,
       return std::nullopt;
   FlipMismatch mismatch(robot, flip, half_turn,
                         robot.movableJoints()[movableOf(robot, bottom)].child_link);
-  const Eigen::VectorXd c = leastMismatch(mismatch, static_cast<int>(flip.size()));
-  if (!(mismatch(c).lpNorm<Eigen::Infinity>() <= kExact)) return std::nullopt;
+  // The first start whose search ends exact: from zero first, so that a
+  // chain exact about zero keeps those centres.
+  std::optional<Eigen::VectorXd> exact;
+  for (const Eigen::VectorXd& start : centreStarts(static_cast<int>(flip.size()))) {
+    const Eigen::VectorXd c = leastMismatch(mismatch, start);
+    if (mismatch(c).lpNorm<Eigen::Infinity>() <= kMirrorTolerance) {
+      exact = c;
+      break;
+    }
+  }
+  if (!exact) return std::nullopt;
+  const Eigen::VectorXd& c = *exact;
   std::vector<double> out;
   for (int i = 0; i < c.size(); ++i) out.push_back(c[i] - M_PI * std::round(c[i] / M_PI));
   return out;

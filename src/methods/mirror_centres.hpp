@@ -25,8 +25,10 @@ namespace stac {
 // −0.256 and 0: about zero it refined to 3200 times the truth's cost, and
 // the run ended flagged in the mirror). Returns each flip column's
 // centre modulo π (the mirrors about c and c + π differ by a whole turn),
-// solved on a few fixed configurations within the limits, or nothing where
-// the columns form no such chain or no centres make the flip exact.
+// solved on a few fixed configurations within the limits from a few starts
+// (0 and π/2 each), or nothing where the columns form no such chain or no
+// centres make the flip exact (to a millimetre: a URDF's rounding or a
+// sub-millimetre offset leaves it as good a start for a jump).
 std::optional<std::vector<double>> exactMirrorCentres(const RobotModel& robot,
                                                       const std::vector<int>& flip,
                                                       const std::vector<int>& half_turn);
