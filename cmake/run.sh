@@ -78,8 +78,6 @@ case "${1:-}" in
     #    in Release; with them CI took 2438 s against 1510 s before; their
     #    coverage not re-measured). The turned start they rely on stays in
     #    the pass (BaseTurn's seedFrames tests).
-    #  - The B1 replay of the limit check (JointLimits, 5 s in Release): the
-    #    check's excuse per kind of listing stays in the pass.
     #  - The gradient checks of the monolithic costs: ASan reports an overflow
     #    inside Eigen's aligned free when the test destroys the results that
     #    libceres's GradientChecker filled. That is an allocation/free mismatch

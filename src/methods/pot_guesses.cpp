@@ -213,11 +213,12 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 namespace {
 // The guesses whose bias is free on a joint with finite limits, and
 // whether each one's angles in q sit at or beyond them in most frames (a
-// few frames dragged there by gross readings are no turn off).
+// few frames dragged there by gross readings are no turn off), or beyond
+// the URDF's limits as often as the verdict flags (recentreMoves).
 struct LimitedGuess {
   int index;
   bool mostly_at_limit;
-  bool mostly_beyond;  // beyond the URDF's limits (not only the widened ones)
+  bool often_beyond;  // beyond the URDF's limits (not only the widened ones)
 };
 std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
                                          const std::vector<PotGuess>& guesses,
@@ -231,7 +232,8 @@ std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
       continue;
     const double rows = static_cast<double>(q.rows());
     out.push_back({i, std::find(at_limit.begin(), at_limit.end(), j) != at_limit.end(),
-                   often(static_cast<double>(beyond.col(j).count()), rows, 0.5)});
+                   often(static_cast<double>(beyond.col(j).count()), rows,
+                         kSuspectShareAtLimit)});
   }
   return out;
 }
@@ -291,7 +293,7 @@ std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
     }
   };
   for (const LimitedGuess& g : limited) {
-    if (!g.mostly_beyond) continue;
+    if (!g.often_beyond) continue;
     placements({}, g.index);
     // The joint above, placed, with g's mirrored and centred in its limits.
     const int above = guessAbove(robot, guesses, g.index);
