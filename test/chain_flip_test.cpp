@@ -19,6 +19,7 @@
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
 #include "support/basin_draws.hpp"
+#include "support/test_util.hpp"
 
 namespace stac {
 namespace {
@@ -128,6 +129,14 @@ TEST(MirrorCentres, AQuarterTurnedWristsNearlyExactMirrorIsFound) {
   const Eigen::Isometry3d moved = flippedPose(robot, q, flip, *centres, half_turn, 4);
   EXPECT_LT((moved.matrix() - truth.matrix()).cwiseAbs().maxCoeff(), 1e-3);
   EXPECT_GT((moved.matrix() - truth.matrix()).cwiseAbs().maxCoeff(), 1e-6);  // not exact
+  // The tolerance is a millimetre, not more: the same wrist offset by 5 mm
+  // (a mirror 10 mm off) has no centres.
+  std::string text = test::readFile(std::string(STAC_SOURCE_DIR) +
+                                    "/test/fixtures/five_joint_flying_arm_kinematics.urdf");
+  const std::string offset = "0.034 0 -0.00025";
+  ASSERT_NE(text.find(offset), std::string::npos);
+  text.replace(text.find(offset), offset.size(), "0.034 0 -0.005");
+  EXPECT_FALSE(exactMirrorCentres(RobotModel::fromString(text, "offset"), flip, half_turn));
 }
 
 // That arm on partial swings, the basin's fresh truth draw 17, truth 3

@@ -197,5 +197,30 @@ TEST(Placements, AMotionBeyondItsLimitsIsPlacedOverThemAndTheJointAboveWithItMir
   EXPECT_TRUE(recentreMoves(c.robot, held, c.q).empty());
 }
 
+// A motion beyond the limits in fewer than most frames is placed only
+// where its column is flagged (the verdict's criterion, which the jumps
+// pass: WideBasin::jumpToBetterMinimum).
+TEST(Placements, AMotionBeyondItsLimitsInAFewFramesIsPlacedWhereFlagged) {
+  const J4Beyond c;
+  const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
+  const RobustLoss loss;
+  Workspaces ws = makeWorkspaces(c.model, 2);
+  const WideBasin basin(c.model, c.obs, noise, loss, 2, &ws, c.truth.theta, false);
+  const std::vector<PotGuess>& guesses = basin.guesses();
+  // j4's motion shifted so that a fifth of its frames lie beyond its limit.
+  RowMatrix q = c.q;
+  Eigen::VectorXd sorted = q.col(3);
+  std::sort(sorted.data(), sorted.data() + sorted.size());
+  const double fifth = sorted[static_cast<Eigen::Index>(0.8 * (sorted.size() - 1))];
+  q.col(3).array() += c.robot.upperLimits()[3] - fifth;
+  const Eigen::Index beyond = beyondLimits(c.robot, q).col(3).count();
+  ASSERT_GT(beyond, q.rows() / 10);
+  ASSERT_LT(beyond, q.rows() / 2);
+  EXPECT_TRUE(recentreMoves(c.robot, guesses, q).empty());
+  const std::vector<MinimumMove> moves = recentreMoves(c.robot, guesses, q, {3});
+  ASSERT_EQ(moves.size(), 2u * kPlacements);
+  EXPECT_EQ(guesses[moves[0].recentre.at(0)].column, 3);
+}
+
 }  // namespace
 }  // namespace stac

@@ -31,7 +31,8 @@ struct Chain : test::ChainLog {
 
 bool listsTheMirror(const std::vector<UnidentifiableDirection>& dirs) {
   return std::any_of(dirs.begin(), dirs.end(), [](const UnidentifiableDirection& d) {
-    return d.reason.find("j1 and j3 half a turn away with j2 mirrored") != std::string::npos &&
+    return d.kind == Undetermined::kMirror &&
+           d.reason.find("j1 and j3 half a turn away with j2 mirrored") != std::string::npos &&
            std::find(d.parameters.begin(), d.parameters.end(), "joint_sensors.j2_pot.gain") !=
                d.parameters.end();
   });

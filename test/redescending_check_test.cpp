@@ -123,7 +123,8 @@ TEST(RedescendingCheck, ABiasKnownModuloATurnIsComparedModuloThatTurn) {
   const std::string name = a.truth.sensors.joint_sensors[0].name;
   EXPECT_NE(lossDisagreement(a.model, huber, cauchyAt(cauchy, huber)), "");
   const UnidentifiableDirection turn{{"joint_sensors." + name + ".bias"},
-                                     name + "'s bias is known only modulo a turn"};
+                                     name + "'s bias is known only modulo a turn",
+                                     Undetermined::kModuloTurn};
   EXPECT_EQ(lossDisagreement(a.model, huber, cauchyAt(cauchy, huber, {turn})), "");
   // Listed modulo a turn is still compared: what is left beyond the turn
   // counts.
@@ -135,7 +136,8 @@ TEST(RedescendingCheck, ABiasKnownModuloATurnIsComparedModuloThatTurn) {
   // A turn of another parameter is no licence to compare this one modulo a
   // turn.
   const UnidentifiableDirection other{{"joint_sensors." + name + ".gain"},
-                                      name + "'s gain is known only modulo a turn"};
+                                      name + "'s gain is known only modulo a turn",
+                                      Undetermined::kModuloTurn};
   EXPECT_NE(lossDisagreement(a.model, huber, cauchyAt(cauchy, huber, {other})), "");
 }
 

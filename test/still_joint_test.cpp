@@ -67,6 +67,7 @@ TEST(StillJoint, APotOnAJointTheLogHoldsStillHasItsGainAndBiasListedUndetermined
   const auto listed = stillJoints(c.model, c.obs, seed, seed);
   ASSERT_EQ(listed.size(), 1u);
   EXPECT_TRUE(listsStillPot(listed, "j2_pot", "j2"));
+  EXPECT_EQ(listed[0].kind, Undetermined::kStillJoint);
   expectCalibratedWithTheStillPotListed(c, c.truth.sensors);
 }
 

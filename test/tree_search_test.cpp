@@ -176,6 +176,7 @@ TEST(TurnAmbiguity, ListedWhenTheMotionFitsATurnAway) {
   for (size_t k = 0; k < listed.size(); ++k) {
     EXPECT_EQ(listed[k].parameters[0], expected[k]);
     EXPECT_NE(listed[k].reason.find("modulo a turn"), std::string::npos);
+    EXPECT_EQ(listed[k].kind, Undetermined::kModuloTurn);
   }
   EXPECT_NE(listed[0].reason.find(u.robot.qName(1)), std::string::npos);
 }

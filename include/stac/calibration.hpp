@@ -40,7 +40,7 @@ enum class Undetermined {
 struct UnidentifiableDirection {
   std::vector<std::string> parameters;  // e.g. "joint_sensors.pan_pot.bias"
   std::string reason;                   // one human sentence
-  Undetermined kind = Undetermined::kNull;
+  Undetermined kind = Undetermined::kWeak;
 };
 
 // With a prior on the joint-origin corrections: which components of one

@@ -23,6 +23,8 @@ constexpr int kSamples = 3;
 // offset by 0.25 mm: 0.5 mm off at its best centres). Those are as good a
 // start for the jump, which refines from there, as an exact one.
 constexpr double kMirrorTolerance = 1e-3;
+// Exact but for rounding: no other start can do better.
+constexpr double kRounding = 1e-8;
 // Columns from which the centres' starts (below) are the two uniform ones
 // only, not every combination.
 constexpr int kMaxCombinedStarts = 4;
@@ -145,7 +147,7 @@ std::vector<Eigen::VectorXd> centreStarts(int n) {
   }
   for (int mask = 0; mask < (1 << n); ++mask) {
     Eigen::VectorXd c(n);
-    for (int i = 0; i < n; ++i) c[i] = (mask >> i & 1) ? M_PI / 2 : 0.0;
+    for (int i = 0; i < n; ++i) c[i] = ((mask >> i) & 1) ? M_PI / 2 : 0.0;
     starts.push_back(c);
   }
   return starts;
@@ -167,18 +169,20 @@ std::optional<std::vector<double>> exactMirrorCentres(const RobotModel& robot,
       return std::nullopt;
   FlipMismatch mismatch(robot, flip, half_turn,
                         robot.movableJoints()[movableOf(robot, bottom)].child_link);
-  // The first start whose search ends exact: from zero first, so that a
-  // chain exact about zero keeps those centres.
-  std::optional<Eigen::VectorXd> exact;
+  // The start whose search ends nearest exact, from zero first, and the
+  // first one that ends exact to rounding: a start can stop in a local
+  // minimum within the tolerance where another reaches the exact centres.
+  std::optional<Eigen::VectorXd> best;
+  double best_mismatch = kMirrorTolerance;
   for (const Eigen::VectorXd& start : centreStarts(static_cast<int>(flip.size()))) {
     const Eigen::VectorXd c = leastMismatch(mismatch, start);
-    if (mismatch(c).lpNorm<Eigen::Infinity>() <= kMirrorTolerance) {
-      exact = c;
-      break;
-    }
+    const double m = mismatch(c).lpNorm<Eigen::Infinity>();
+    if (!(m <= best_mismatch)) continue;
+    best = c, best_mismatch = m;
+    if (m <= kRounding) break;
   }
-  if (!exact) return std::nullopt;
-  const Eigen::VectorXd& c = *exact;
+  if (!best) return std::nullopt;
+  const Eigen::VectorXd& c = *best;
   std::vector<double> out;
   for (int i = 0; i < c.size(); ++i) out.push_back(c[i] - M_PI * std::round(c[i] / M_PI));
   return out;

@@ -213,12 +213,11 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 namespace {
 // The guesses whose bias is free on a joint with finite limits, and
 // whether each one's angles in q sit at or beyond them in most frames (a
-// few frames dragged there by gross readings are no turn off), or beyond
-// the URDF's limits as often as the verdict flags (recentreMoves).
+// few frames dragged there by gross readings are no turn off).
 struct LimitedGuess {
   int index;
   bool mostly_at_limit;
-  bool often_beyond;  // beyond the URDF's limits (not only the widened ones)
+  bool mostly_beyond;  // beyond the URDF's limits (not only the widened ones)
 };
 std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
                                          const std::vector<PotGuess>& guesses,
@@ -232,8 +231,7 @@ std::vector<LimitedGuess> limitedGuesses(const RobotModel& robot,
       continue;
     const double rows = static_cast<double>(q.rows());
     out.push_back({i, std::find(at_limit.begin(), at_limit.end(), j) != at_limit.end(),
-                   often(static_cast<double>(beyond.col(j).count()), rows,
-                         kSuspectShareAtLimit)});
+                   often(static_cast<double>(beyond.col(j).count()), rows, 0.5)});
   }
   return out;
 }
@@ -276,7 +274,8 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
 }
 
 std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
-                                       const std::vector<PotGuess>& guesses, const RowMatrix& q) {
+                                       const std::vector<PotGuess>& guesses, const RowMatrix& q,
+                                       const std::vector<int>& flagged) {
   std::vector<MinimumMove> moves;
   if (q.rows() == 0) return moves;
   const std::vector<LimitedGuess> limited = limitedGuesses(robot, guesses, q);
@@ -293,7 +292,9 @@ std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
     }
   };
   for (const LimitedGuess& g : limited) {
-    if (!g.often_beyond) continue;
+    const int j = guesses[g.index].column;
+    if (!g.mostly_beyond && std::find(flagged.begin(), flagged.end(), j) == flagged.end())
+      continue;
     placements({}, g.index);
     // The joint above, placed, with g's mirrored and centred in its limits.
     const int above = guessAbove(robot, guesses, g.index);
@@ -489,7 +490,8 @@ void flipAboutTurns(const RobotModel& robot, const PotGuess& g, double centre,
 }
 
 // The centres flipAboutTurns mirrors a move's flips about: where the
-// kinematics make the chain flip exact (exactMirrorCentres), else zero.
+// kinematics make the chain flip exact to a millimetre (exactMirrorCentres),
+// else zero.
 std::vector<double> flipCentres(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                 const MinimumMove& move) {
   std::vector<int> flip, half_turn;

@@ -52,8 +52,8 @@ double shiftInStd(const MeasurementModel& model, const Outcome& huber, const Cau
     const std::string& name = space.names()[i];
     bool turns = false;
     for (const UnidentifiableDirection& u : cauchy.unidentifiable) {
-      const bool turn = u.reason.find("modulo a turn") != std::string::npos &&
-                        !u.parameters.empty() && u.parameters[0] == name;
+      const bool turn = u.kind == Undetermined::kModuloTurn && !u.parameters.empty() &&
+                        u.parameters[0] == name;
       turns |= turn;
       if (skip_listed && !turn &&
           std::find(u.parameters.begin(), u.parameters.end(), name) != u.parameters.end())

@@ -221,7 +221,8 @@ bool placementUndetermined(const RobotModel& robot, const SensorSet& sensors,
     if (robot.movableJoints()[js.joint].q_index != j) continue;
     const std::string bias = "joint_sensors." + js.name + ".bias";
     for (const UnidentifiableDirection& d : listed)
-      if (d.kind != Undetermined::kWeak && d.kind != Undetermined::kStillJoint &&
+      if ((d.kind == Undetermined::kNull || d.kind == Undetermined::kModuloTurn ||
+           d.kind == Undetermined::kMirror) &&
           std::find(d.parameters.begin(), d.parameters.end(), bias) != d.parameters.end())
         return true;
   }

@@ -148,7 +148,7 @@ void halfTurn(const RobotModel& robot, const PotGuess& g, SensorParameters* thet
 // recentreMoves), θ then re-fitted to the moved angles.
 struct MinimumMove {
   std::vector<int> flip, half_turn, whole_turn;
-  bool flip_about_zero = false;  // its mirrors always about the joints' zeros (applyMove)
+  bool flip_about_zero = false;  // its mirrors about the exact centres (applyMove)
   std::vector<int> wrap = {};  // (a default: the other moves' braces leave it out)
   std::vector<int> recentre = {};
   double place = 0.5;
@@ -194,13 +194,15 @@ std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
 std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                                    const RowMatrix& q);
 // Each guess on a joint with finite limits whose angles in q lie beyond
-// the URDF's limits as often as the verdict flags (kSuspectShareAtLimit of
-// the frames; in most, before, which left an unseen Unitree B1's calf,
-// mirrored at half scale below the knee's limit in 169 of 600 frames,
-// flagged; from the placements it reaches the truth): its motion shifted, the pot's bias with
-// it, into the limits, its middle at kPlacements places spread over the
-// middles that keep it within them; and the guessed joint above it placed
-// so, with it mirrored and in its limits' middle. Where nothing but a
+// the URDF's limits in most frames, or whose column is `flagged`: its
+// motion shifted, the pot's bias with it, into the limits, its middle at
+// kPlacements places spread over the middles that keep it within them; and
+// the guessed joint above it placed so, with it mirrored and in its
+// limits' middle. The jumps flag what the verdict would
+// (jointsOftenBeyondLimits at kSuspectShareAtLimit): an unseen Unitree
+// B1's calf, mirrored at half scale below the knee's limit in 169 of 600
+// frames, lay beyond them in too few frames for "most", was flagged, and
+// from the placements reaches the truth. Where nothing but a
 // marker on the joint's own link sees its absolute angle, a constant shift
 // of the angle is taken up by that marker's position, and a fit can end
 // with the whole motion beyond a limit at the truth's cost: the bundled
@@ -217,12 +219,14 @@ std::vector<MinimumMove> wrapMoves(const RobotModel& robot, const std::vector<Po
 // of them back. None that changes a held bias.
 constexpr int kPlacements = 5;
 std::vector<MinimumMove> recentreMoves(const RobotModel& robot,
-                                       const std::vector<PotGuess>& guesses, const RowMatrix& q);
+                                       const std::vector<PotGuess>& guesses, const RowMatrix& q,
+                                       const std::vector<int>& flagged = {});
 // The move's mirrors are about each column's mean, or with
-// `mirror_about_zero` about the joint's zero modulo half turns (where a
-// chain's mirror configurations are exact: the Panda's axes 1 and 3 align
-// at q2 = 0, the Kinova Jaco's 4 and 6 at q5 = π), the half turns chosen
-// to keep the mirrored motion nearest the middle of the limits.
+// `mirror_about_zero` about the centres where the chain's mirror is exact
+// to a millimetre (exactMirrorCentres; zero where there are none: the
+// Panda's axes 1 and 3 align at q2 = 0, the Kinova Jaco's 4 and 6 at
+// q5 = π), modulo half turns, the half turns chosen to keep the mirrored
+// motion nearest the middle of the limits.
 void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
                const MinimumMove& move, SensorParameters* theta, RowMatrix* q,
                bool mirror_about_zero = false);
