@@ -122,13 +122,18 @@ double placed(const RobotModel& robot, const RowMatrix& q, int j, double place) 
   return lo + place * (hi - lo);
 }
 
-TEST(Placements, AMotionBeyondItsLimitsIsPlacedOverThemAndTheJointAboveWithItMirrored) {
-  const J4Beyond c;
+// The chain's pot guesses, as the jumps make them.
+std::vector<PotGuess> potGuessesOf(const test::ChainLog& c) {
   const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
   const RobustLoss loss;
   Workspaces ws = makeWorkspaces(c.model, 2);
   const WideBasin basin(c.model, c.obs, noise, loss, 2, &ws, c.truth.theta, false);
-  const std::vector<PotGuess>& guesses = basin.guesses();
+  return basin.guesses();
+}
+
+TEST(Placements, AMotionBeyondItsLimitsIsPlacedOverThemAndTheJointAboveWithItMirrored) {
+  const J4Beyond c;
+  const std::vector<PotGuess> guesses = potGuessesOf(c);
   ASSERT_TRUE(beyondLimits(c.robot, c.q).col(3).count() > c.q.rows() / 2);
   const std::vector<MinimumMove> moves = recentreMoves(c.robot, guesses, c.q);
   ASSERT_EQ(moves.size(), 2u * kPlacements);  // j4 alone, then j3 with j4 mirrored
@@ -202,11 +207,7 @@ TEST(Placements, AMotionBeyondItsLimitsIsPlacedOverThemAndTheJointAboveWithItMir
 // pass: WideBasin::jumpToBetterMinimum).
 TEST(Placements, AMotionBeyondItsLimitsInAFewFramesIsPlacedWhereFlagged) {
   const J4Beyond c;
-  const NoiseModel noise = NoiseModel::fromSeeds(c.truth.sensors);
-  const RobustLoss loss;
-  Workspaces ws = makeWorkspaces(c.model, 2);
-  const WideBasin basin(c.model, c.obs, noise, loss, 2, &ws, c.truth.theta, false);
-  const std::vector<PotGuess>& guesses = basin.guesses();
+  const std::vector<PotGuess> guesses = potGuessesOf(c);
   // j4's motion shifted so that a fifth of its frames lie beyond its limit.
   RowMatrix q = c.q;
   Eigen::VectorXd sorted = q.col(3);
