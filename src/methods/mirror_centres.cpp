@@ -99,10 +99,16 @@ class FlipMismatch {
   std::vector<Eigen::Isometry3d> poses_;
 };
 
+// Centres and how far their flip misses (the largest coordinate).
+struct Centres {
+  Eigen::VectorXd c;
+  double mismatch;
+};
+
 // Levenberg-Marquardt on the centres from `c` (the frames' damping
 // policy, lm_damping.hpp: a handful of angles, as a frame's), with a
 // forward-difference Jacobian: the mismatch is smooth and periodic.
-Eigen::VectorXd leastMismatch(FlipMismatch& mismatch, Eigen::VectorXd c) {
+Centres leastMismatch(FlipMismatch& mismatch, Eigen::VectorXd c) {
   constexpr int kMaxSteps = 60;
   constexpr double kDelta = 1e-7;  // the difference step, radians
   const int n = static_cast<int>(c.size());
@@ -126,11 +132,12 @@ Eigen::VectorXd leastMismatch(FlipMismatch& mismatch, Eigen::VectorXd c) {
         c = next, r = rn, lambda = acceptedStep(kFrameSchedule, lambda);
         break;
       }
-      if (lambda >= kFrameSchedule.max) return c;  // no step helps: a minimum
+      if (lambda >= kFrameSchedule.max)  // no step helps: a minimum
+        return {c, r.lpNorm<Eigen::Infinity>()};
       lambda = rejectedStep(kFrameSchedule, lambda);
     }
   }
-  return c;
+  return {c, r.lpNorm<Eigen::Infinity>()};
 }
 
 // The starts of the search: each centre at 0 or π/2, in every combination
@@ -172,17 +179,15 @@ std::optional<std::vector<double>> exactMirrorCentres(const RobotModel& robot,
   // The start whose search ends nearest exact, from zero first, and the
   // first one that ends exact to rounding: a start can stop in a local
   // minimum within the tolerance where another reaches the exact centres.
-  std::optional<Eigen::VectorXd> best;
-  double best_mismatch = kMirrorTolerance;
+  std::optional<Centres> best;
   for (const Eigen::VectorXd& start : centreStarts(static_cast<int>(flip.size()))) {
-    const Eigen::VectorXd c = leastMismatch(mismatch, start);
-    const double m = mismatch(c).lpNorm<Eigen::Infinity>();
-    if (!(m <= best_mismatch)) continue;
-    best = c, best_mismatch = m;
-    if (m <= kRounding) break;
+    Centres found = leastMismatch(mismatch, start);
+    if (!(found.mismatch <= (best ? best->mismatch : kMirrorTolerance))) continue;
+    best = std::move(found);
+    if (best->mismatch <= kRounding) break;
   }
   if (!best) return std::nullopt;
-  const Eigen::VectorXd& c = *best;
+  const Eigen::VectorXd& c = best->c;
   std::vector<double> out;
   for (int i = 0; i < c.size(); ++i) out.push_back(c[i] - M_PI * std::round(c[i] / M_PI));
   return out;
