@@ -597,6 +597,39 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
   EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
 }
 
+// Jumps refined to one minimum by different paths differ by rounding; of
+// those, the one whose start fits best is taken, the whole log going on
+// from that start (a whole turn, not a mirror-and-place that refined 6e-7
+// lower: an unseen Go2's thigh, whose run from the mirror on the whole log
+// ended elsewhere). A clearly lower refined cost wins whatever its start.
+TEST(JumpChoice, OfJumpsThatFitAlikeTheNearestStartIsTakenAndAClearlyBetterOneWins) {
+  const double base = 1000, refined = 0.99 * base, rounding = 0.5 * kSameRefinedFit;
+  JumpChoice better(base);
+  better.consider(0, refined, 2 * base, true);
+  better.consider(1, refined * (1 - rounding), 3 * base, true);  // lower, farther start
+  EXPECT_EQ(better.chosen(), 0);
+  better.consider(2, refined * (1 + rounding), base, false);  // higher, nearer start
+  EXPECT_EQ(better.chosen(), 2);
+  better.consider(3, refined * (1 - 2 * kSameRefinedFit), 9 * base, false);  // clearly lower
+  EXPECT_EQ(better.chosen(), 3);
+  better.consider(4, base, base, true);  // only within: a better one is held
+  EXPECT_EQ(better.chosen(), 3);
+
+  JumpChoice within(base);
+  within.consider(0, base * (1 + 0.5 * kSameFit), base, false);  // relieves nothing
+  EXPECT_EQ(within.chosen(), -1);
+  within.consider(1, base * (1 + 2 * kSameFit), base, true);  // fits worse
+  EXPECT_EQ(within.chosen(), -1);
+  within.consider(2, base * (1 + 0.5 * kSameFit), 2 * base, true);
+  EXPECT_EQ(within.chosen(), 2);
+  within.consider(3, base * (1 + 0.5 * kSameFit) * (1 - rounding), 3 * base, true);
+  EXPECT_EQ(within.chosen(), 2);
+  within.consider(4, base * (1 + 0.5 * kSameFit) * (1 + rounding), base, true);
+  EXPECT_EQ(within.chosen(), 4);
+  within.consider(5, kBetterMinimum * base * 0.999, 9 * base, false);  // better than the base
+  EXPECT_EQ(within.chosen(), 5);
+}
+
 // The arm with j4 continuous (its motion, within ±1.2, unchanged).
 test::ArmProblem continuousWristArm(int frames) {
   test::ArmProblem p = arm(frames);

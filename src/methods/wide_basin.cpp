@@ -383,6 +383,23 @@ bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesse
 }
 }  // namespace
 
+namespace {
+// Whether a jump that refined to `cost` from `start` replaces `held`.
+bool replaces(const JumpChoice::Held& held, double cost, double start) {
+  if (held.index < 0 || cost < (1 - kSameRefinedFit) * held.cost) return true;
+  return cost <= (1 + kSameRefinedFit) * held.cost && start < held.start;
+}
+}  // namespace
+
+void JumpChoice::consider(int index, double cost, double start, bool relieves) {
+  const Held jump{index, cost, start};
+  if (cost < kBetterMinimum * base_) {
+    if (replaces(better_, cost, start)) better_ = jump;
+  } else if (relieves && cost <= (1 + kSameFit) * base_ && replaces(within_, cost, start)) {
+    within_ = jump;
+  }
+}
+
 std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
     Estimate* est, const std::vector<int>& at_limits) const {
   QState sub;
@@ -390,33 +407,32 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   const double base = refinedCost(est->theta, sub, PotSteps::kInverseCharts);
   const RobotModel& robot = model_.robot();
   const LimitFrames limits{atWidenedLimit(robot, sub.q), beyondLimits(robot, sub.q)};
-  double best = kBetterMinimum * base, within_cost = (1 + kSameFit) * base;
-  std::optional<MinimumMove> chosen, within;
-  const auto consider = [&](const MinimumMove& move) {
+  JumpChoice choice(base);
+  std::vector<MinimumMove> moves;  // those considered, in order
+  const auto consider = [&](MinimumMove move) {
     SensorParameters theta = est->theta;
     QState moved = sub;
     moveTo(move, false, sub_, &theta, &moved);
     const bool relieves = relievesLimits(robot, guesses_, move, limits, moved.q);
+    const double start =
+        totalCost(model_, theta, noise_, loss_, sub_, FrameOptions(), threads_, ws_, &moved);
     const double cost = refinedCost(std::move(theta), std::move(moved), PotSteps::kInverseCharts);
-    if (cost < best) {
-      best = cost, chosen = move;
-    } else if (relieves && cost <= within_cost) {
-      within_cost = cost, within = move;
-    }
+    moves.push_back(std::move(move));
+    choice.consider(static_cast<int>(moves.size()) - 1, cost, start, relieves);
     return cost;
   };
   std::vector<bool> through(model_.dof(), false);
   for (int j : at_limits) through[j] = true;
-  std::vector<MinimumMove> moves = minimumMoves(robot, guesses_, moves_, &through);
-  for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
-  for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) moves.push_back(std::move(move));
+  std::vector<MinimumMove> listed = minimumMoves(robot, guesses_, moves_, &through);
+  for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
+  for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
   // Placed back wherever the verdict would flag the motion beyond the limits.
   const std::vector<int> flagged = jointsOftenBeyondLimits(
       model_, est->theta, noise_, loss_, sub_, sub.q, kSuspectShareAtLimit);
   for (MinimumMove& move : recentreMoves(robot, guesses_, sub.q, flagged))
-    moves.push_back(std::move(move));
-  std::vector<double> cost(moves.size());
-  for (size_t m = 0; m < moves.size(); ++m) cost[m] = consider(moves[m]);
+    listed.push_back(std::move(move));
+  std::vector<double> cost(listed.size());
+  for (size_t m = 0; m < listed.size(); ++m) cost[m] = consider(listed[m]);
   // A wrist or shoulder flip is exact about the mirrored joints' zeros (or
   // kπ, flipAboutTurns); its sign move about the motion's mean is not, and
   // refined from there may not reach the exact one. Where no move helped,
@@ -430,17 +446,18 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   // rest 13 s of refinements), but a long one can be (the unseen Z1's arm
   // mirror over the top refined to 44x the cost about the mean, 0.997x
   // exact).
-  if (!chosen && !within)
-    for (size_t m = 0; m < moves.size(); ++m) {
-      MinimumMove move = moves[m];
+  if (choice.chosen() < 0)
+    for (size_t m = 0; m < listed.size(); ++m) {
+      MinimumMove move = listed[m];
       if (!move.flip.empty() && !move.half_turn.empty() && !move.flip_about_zero &&
           (cost[m] <= kNearMiss * base || turnsAny(guesses_, move, through))) {
         move.flip_about_zero = true;
-        consider(move);
+        consider(std::move(move));
       }
     }
-  if (!chosen) chosen = within;
-  if (chosen) moveTo(*chosen, false, obs_, &est->theta, &est->state);
+  if (choice.chosen() < 0) return std::nullopt;
+  const MinimumMove& chosen = moves[choice.chosen()];
+  moveTo(chosen, false, obs_, &est->theta, &est->state);
   return chosen;
 }
 

@@ -41,6 +41,42 @@ constexpr double kNearMirror = 2.0;
 // jump and keeps its end only if it fits better, so a false jump costs
 // time, not accuracy).
 constexpr double kBetterMinimum = 1.0 - kSameFit;
+// Jumps whose refined costs agree to within this share reached one minimum
+// by different paths (a few coupled steps from each leave them up to 6e-7
+// apart), and the one whose start fits best is taken: the whole log goes
+// on from the unrefined start, and from a start farther from its end a
+// longer path can end elsewhere (an unseen Go2 on partial swings, seed 19
+// truth 9: its thigh pot's map a whole turn off; the whole turn, exact,
+// and a mirror with the hip placed both refined to 2879.85, the mirror 6e-7
+// lower, and the run from it on the whole log ended with the calf a turn
+// off; not kept, flagged). Below the 6e-5 by which a start still on its
+// way can end above the minimum (the arm's wrist flip about its motion's
+// mean, against the exact flip).
+constexpr double kSameRefinedFit = 1e-5;
+
+// The choice among jumps scored one after another from a converged cost
+// `base` (jumpToBetterMinimum): one that fits better than
+// kBetterMinimum·base, else one that relieves the joints' limits and fits
+// within kSameFit of it; among those, the lowest refined cost, and of
+// those alike (kSameRefinedFit) the lowest cost at the start.
+class JumpChoice {
+ public:
+  struct Held {
+    int index = -1;
+    double cost = 0, start = 0;
+  };
+  explicit JumpChoice(double base) : base_(base) {}
+  // Jump `index`: its cost refined and at its start, whether it relieves
+  // the limits.
+  void consider(int index, double cost, double start, bool relieves);
+  // The better jump, else the one within; -1: none.
+  int chosen() const { return better_.index >= 0 ? better_.index : within_.index; }
+
+ private:
+  double base_;
+  Held better_, within_;
+};
+
 // A jump whose start, refined, fits within this factor of the converged
 // cost is a near miss: its exact form (jumpToBetterMinimum) is worth a try
 // even where no joint it moves is at its limits.
