@@ -610,6 +610,8 @@ TEST(JumpChoice, OfJumpsThatFitAlikeTheNearestStartIsTakenAndAClearlyBetterOneWi
   EXPECT_EQ(better.chosen(), 0);
   better.consider(2, refined * (1 + rounding), base, false);  // higher, nearer start
   EXPECT_EQ(better.chosen(), 2);
+  better.consider(5, refined, base * (1 - rounding), false);  // starts alike: the first
+  EXPECT_EQ(better.chosen(), 2);
   better.consider(3, refined * (1 - 2 * kSameRefinedFit), 9 * base, false);  // clearly lower
   EXPECT_EQ(better.chosen(), 3);
   better.consider(4, base, base, true);  // only within: a better one is held
@@ -628,6 +630,27 @@ TEST(JumpChoice, OfJumpsThatFitAlikeTheNearestStartIsTakenAndAClearlyBetterOneWi
   EXPECT_EQ(within.chosen(), 4);
   within.consider(5, kBetterMinimum * base * 0.999, 9 * base, false);  // better than the base
   EXPECT_EQ(within.chosen(), 5);
+}
+
+// Three pots' maps a whole turn off, their motions with them (an unseen
+// UR10's five, one per jump round, ran out of rounds): one jump turns them
+// all back.
+TEST(WideBasinAfterConvergence, JumpsBackFromSeveralMotionsATurnOutsideTheLimitsAtOnce) {
+  ArmSetup s(arm(300));
+  const WideBasin wb = s.basin(s.p.seed);
+  Estimate est = atTheTruth(s.p);
+  for (int i : {0, 1, 3}) {
+    const PotGuess& g = wb.guesses()[i];
+    const double turn = (i == 1 ? 2 : -2) * M_PI;
+    est.state.q.col(g.column).array() += turn;
+    est.theta.joint_sensor[g.sensor].bias -= turn * est.theta.joint_sensor[g.sensor].gain;
+  }
+  const auto jump = wb.jumpToBetterMinimum(&est);
+  ASSERT_TRUE(jump);
+  EXPECT_EQ(jump->whole_turn, (std::vector<int>{0, 1, 3}));
+  for (int j = 0; j < 4; ++j)
+    EXPECT_NEAR(est.theta.joint_sensor[j].bias, s.p.truth.joint_sensor[j].bias, 1e-9) << j;
+  EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
 }
 
 // The arm with j4 continuous (its motion, within ±1.2, unchanged).

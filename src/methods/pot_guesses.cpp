@@ -264,12 +264,15 @@ void recentre(const RobotModel& robot, const PotGuess& g, double place, SensorPa
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses, const RowMatrix& q) {
   std::vector<MinimumMove> moves;
+  MinimumMove all_at_limits;
   for (const LimitedGuess& g : limitedGuesses(robot, guesses, q)) {
     const int j = guesses[g.index].column;
     const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type == JointType::kRevolute;
     if (revolute && (robot.upperLimits()[j] - robot.lowerLimits()[j] > 2 * M_PI || g.mostly_at_limit))
       moves.push_back({{}, {}, {g.index}});
+    if (revolute && g.mostly_at_limit) all_at_limits.whole_turn.push_back(g.index);
   }
+  if (all_at_limits.whole_turn.size() > 1) moves.insert(moves.begin(), all_at_limits);
   return moves;
 }
 

@@ -387,7 +387,7 @@ namespace {
 // Whether a jump that refined to `cost` from `start` replaces `held`.
 bool replaces(const JumpChoice::Held& held, double cost, double start) {
   if (held.index < 0 || cost < (1 - kSameRefinedFit) * held.cost) return true;
-  return cost <= (1 + kSameRefinedFit) * held.cost && start < held.start;
+  return cost <= (1 + kSameRefinedFit) * held.cost && start < (1 - kSameRefinedFit) * held.start;
 }
 }  // namespace
 

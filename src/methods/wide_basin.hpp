@@ -58,7 +58,8 @@ constexpr double kSameRefinedFit = 1e-5;
 // `base` (jumpToBetterMinimum): one that fits better than
 // kBetterMinimum·base, else one that relieves the joints' limits and fits
 // within kSameFit of it; among those, the lowest refined cost, and of
-// those alike (kSameRefinedFit) the lowest cost at the start.
+// those alike (kSameRefinedFit) the one whose start fits clearly best (by
+// kSameRefinedFit), else the first listed.
 class JumpChoice {
  public:
   struct Held {
