@@ -653,6 +653,35 @@ TEST(WideBasinAfterConvergence, JumpsBackFromSeveralMotionsATurnOutsideTheLimits
   EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
 }
 
+// j1 a whole turn off as above, and j3's URDF limits narrowed to the
+// bottom 0.1 rad of its true motion, which so rests beyond them in most
+// frames (limits narrower than the robot's): both motions are mostly at
+// their limits, but turned with j1, j3 would rest beyond the other limit
+// (it fits worse there, held at the limits, and relieves none), so only
+// j1 is turned.
+TEST(WideBasinAfterConvergence, AMotionRestingBeyondItsLimitsIsNotTurnedWithTheOthers) {
+  test::ArmProblem p = arm(300);
+  const double lo = p.q_true.col(2).minCoeff();
+  std::string urdf = test::kArmUrdf;
+  const std::string j3_limits = R"(<axis xyz="1 0 0"/><limit lower="-1.2" upper="1.2")";
+  const size_t at = urdf.find(j3_limits);
+  ASSERT_NE(at, std::string::npos);
+  urdf.replace(at, j3_limits.size(),
+               R"(<axis xyz="1 0 0"/><limit lower=")" + std::to_string(lo) + R"(" upper=")" +
+                   std::to_string(lo + 0.1) + R"(")");
+  p.robot = RobotModel::fromString(urdf, "arm4_narrow_j3");
+  ArmSetup s(std::move(p));
+  const WideBasin wb = s.basin(s.p.seed);
+  Estimate est = atTheTruth(s.p);
+  const PotGuess& g = wb.guesses()[0];
+  est.state.q.col(g.column).array() -= 2 * M_PI;
+  est.theta.joint_sensor[g.sensor].bias += 2 * M_PI * est.theta.joint_sensor[g.sensor].gain;
+  const auto jump = wb.jumpToBetterMinimum(&est);
+  ASSERT_TRUE(jump);
+  EXPECT_EQ(jump->whole_turn, std::vector<int>{0});
+  EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
+}
+
 // The arm with j4 continuous (its motion, within ±1.2, unchanged).
 test::ArmProblem continuousWristArm(int frames) {
   test::ArmProblem p = arm(frames);

@@ -363,11 +363,17 @@ bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesse
                     const MinimumMove& move, const LimitFrames& before, const RowMatrix& moved) {
   if (!move.whole_turn.empty() || !move.recentre.empty()) {
     const auto moved_at_limit = atWidenedLimit(robot, moved);
-    for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre, &move.recentre_below})
-      for (int i : *shifted) {
-        const int j = guesses[i].column;
-        if (moved_at_limit.col(j).count() < before.at.col(j).count()) return true;
-      }
+    const auto fewer = [&](int i) {
+      const int j = guesses[i].column;
+      return moved_at_limit.col(j).count() < before.at.col(j).count();
+    };
+    // Whole turns together: each one (a motion resting on its limit, turned
+    // with the others, would leave them by a turn).
+    if (!move.whole_turn.empty() &&
+        std::all_of(move.whole_turn.begin(), move.whole_turn.end(), fewer))
+      return true;
+    for (const std::vector<int>* shifted : {&move.recentre, &move.recentre_below})
+      if (std::any_of(shifted->begin(), shifted->end(), fewer)) return true;
   }
   if (move.flip.empty() && move.half_turn.empty()) return false;
   const auto moved_beyond = beyondLimits(robot, moved);
