@@ -601,35 +601,48 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
 // those, the one whose start fits best is taken, the whole log going on
 // from that start (a whole turn, not a mirror-and-place that refined 6e-7
 // lower: an unseen Go2's thigh, whose run from the mirror on the whole log
-// ended elsewhere). A clearly lower refined cost wins whatever its start.
+// ended elsewhere); of starts alike, the first listed. A clearly lower
+// refined cost wins whatever its start.
 TEST(JumpChoice, OfJumpsThatFitAlikeTheNearestStartIsTakenAndAClearlyBetterOneWins) {
-  const double base = 1000, refined = 0.99 * base, rounding = 0.5 * kSameRefinedFit;
+  const double base = 1000, refined = 0.99 * base, rounding = 0.25 * kSameRefinedFit;
   JumpChoice better(base);
   better.consider(0, refined, 2 * base, true);
   better.consider(1, refined * (1 - rounding), 3 * base, true);  // lower, farther start
   EXPECT_EQ(better.chosen(), 0);
   better.consider(2, refined * (1 + rounding), base, false);  // higher, nearer start
   EXPECT_EQ(better.chosen(), 2);
-  better.consider(5, refined, base * (1 - rounding), false);  // starts alike: the first
+  better.consider(3, refined, base * (1 - 0.5 * kSameStart), false);  // starts alike
   EXPECT_EQ(better.chosen(), 2);
-  better.consider(3, refined * (1 - 2 * kSameRefinedFit), 9 * base, false);  // clearly lower
-  EXPECT_EQ(better.chosen(), 3);
-  better.consider(4, base, base, true);  // only within: a better one is held
-  EXPECT_EQ(better.chosen(), 3);
+  better.consider(4, refined * (1 - 2 * kSameRefinedFit), 9 * base, false);  // clearly lower
+  EXPECT_EQ(better.chosen(), 4);
+  better.consider(5, base, base, true);  // only within: a better one is held
+  EXPECT_EQ(better.chosen(), 4);
 
   JumpChoice within(base);
-  within.consider(0, base * (1 + 0.5 * kSameFit), base, false);  // relieves nothing
+  const double as_well = base * (1 + 0.5 * kSameFit);
+  within.consider(0, as_well, base, false);  // relieves nothing
   EXPECT_EQ(within.chosen(), -1);
   within.consider(1, base * (1 + 2 * kSameFit), base, true);  // fits worse
   EXPECT_EQ(within.chosen(), -1);
-  within.consider(2, base * (1 + 0.5 * kSameFit), 2 * base, true);
+  within.consider(2, as_well, 2 * base, true);
   EXPECT_EQ(within.chosen(), 2);
-  within.consider(3, base * (1 + 0.5 * kSameFit) * (1 - rounding), 3 * base, true);
+  within.consider(3, as_well * (1 - rounding), 3 * base, true);
   EXPECT_EQ(within.chosen(), 2);
-  within.consider(4, base * (1 + 0.5 * kSameFit) * (1 + rounding), base, true);
+  within.consider(4, as_well * (1 + rounding), base, true);
   EXPECT_EQ(within.chosen(), 4);
   within.consider(5, kBetterMinimum * base * 0.999, 9 * base, false);  // better than the base
   EXPECT_EQ(within.chosen(), 5);
+}
+
+// Alike is measured from the lowest refined cost: a chain of jumps each
+// alike to the one before, its starts ever nearer, does not drift above it.
+TEST(JumpChoice, AlikeIsMeasuredFromTheLowestCost) {
+  const double base = 1000, refined = 0.99 * base;
+  JumpChoice chain(base);
+  chain.consider(0, refined, 3 * base, true);
+  chain.consider(1, refined * (1 + 0.9 * kSameRefinedFit), 2 * base, true);
+  chain.consider(2, refined * (1 + 1.8 * kSameRefinedFit), base, true);
+  EXPECT_EQ(chain.chosen(), 1);
 }
 
 // Three pots' maps a whole turn off, their motions with them (an unseen
@@ -656,9 +669,9 @@ TEST(WideBasinAfterConvergence, JumpsBackFromSeveralMotionsATurnOutsideTheLimits
 // j1 a whole turn off as above, and j3's URDF limits narrowed to the
 // bottom 0.1 rad of its true motion, which so rests beyond them in most
 // frames (limits narrower than the robot's): both motions are mostly at
-// their limits, but turned with j1, j3 would rest beyond the other limit
-// (it fits worse there, held at the limits, and relieves none), so only
-// j1 is turned.
+// their limits, and the whole turns of both are tried together first, but
+// j3 turned rests beyond the other limit and fits worse there (the jumps'
+// refinement holds the angles within the limits), so only j1 is turned.
 TEST(WideBasinAfterConvergence, AMotionRestingBeyondItsLimitsIsNotTurnedWithTheOthers) {
   test::ArmProblem p = arm(300);
   const double lo = p.q_true.col(2).minCoeff();

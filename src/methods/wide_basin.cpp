@@ -4,6 +4,7 @@
 #include "methods/wide_basin.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <utility>
 
@@ -363,17 +364,11 @@ bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesse
                     const MinimumMove& move, const LimitFrames& before, const RowMatrix& moved) {
   if (!move.whole_turn.empty() || !move.recentre.empty()) {
     const auto moved_at_limit = atWidenedLimit(robot, moved);
-    const auto fewer = [&](int i) {
-      const int j = guesses[i].column;
-      return moved_at_limit.col(j).count() < before.at.col(j).count();
-    };
-    // Whole turns together: each one (a motion resting on its limit, turned
-    // with the others, would leave them by a turn).
-    if (!move.whole_turn.empty() &&
-        std::all_of(move.whole_turn.begin(), move.whole_turn.end(), fewer))
-      return true;
-    for (const std::vector<int>* shifted : {&move.recentre, &move.recentre_below})
-      if (std::any_of(shifted->begin(), shifted->end(), fewer)) return true;
+    for (const std::vector<int>* shifted : {&move.whole_turn, &move.recentre, &move.recentre_below})
+      for (int i : *shifted) {
+        const int j = guesses[i].column;
+        if (moved_at_limit.col(j).count() < before.at.col(j).count()) return true;
+      }
   }
   if (move.flip.empty() && move.half_turn.empty()) return false;
   const auto moved_beyond = beyondLimits(robot, moved);
@@ -389,21 +384,30 @@ bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesse
 }
 }  // namespace
 
-namespace {
-// Whether a jump that refined to `cost` from `start` replaces `held`.
-bool replaces(const JumpChoice::Held& held, double cost, double start) {
-  if (held.index < 0 || cost < (1 - kSameRefinedFit) * held.cost) return true;
-  return cost <= (1 + kSameRefinedFit) * held.cost && start < (1 - kSameRefinedFit) * held.start;
-}
-}  // namespace
-
 void JumpChoice::consider(int index, double cost, double start, bool relieves) {
-  const Held jump{index, cost, start};
   if (cost < kBetterMinimum * base_) {
-    if (replaces(better_, cost, start)) better_ = jump;
-  } else if (relieves && cost <= (1 + kSameFit) * base_ && replaces(within_, cost, start)) {
-    within_ = jump;
+    better_.push_back({index, cost, start});
+  } else if (relieves && cost <= (1 + kSameFit) * base_) {
+    within_.push_back({index, cost, start});
   }
+}
+
+int JumpChoice::chosen() const { return better_.empty() ? pick(within_) : pick(better_); }
+
+int JumpChoice::pick(const std::vector<Scored>& jumps) {
+  if (jumps.empty()) return -1;
+  double lowest = jumps.front().cost;
+  for (const Scored& j : jumps) lowest = std::min(lowest, j.cost);
+  // Alike: within kSameRefinedFit of the lowest, so that no chain of jumps
+  // each alike to the last drifts above it.
+  const auto alike = [&](const Scored& j) { return j.cost <= (1 + kSameRefinedFit) * lowest; };
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Scored& j : jumps)
+    if (alike(j)) nearest = std::min(nearest, j.start);  // a NaN start never counts
+  for (const Scored& j : jumps)
+    if (alike(j) && (j.start <= (1 + kSameStart) * nearest || !std::isfinite(nearest)))
+      return j.index;
+  return -1;  // unreachable: the lowest is alike
 }
 
 std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(

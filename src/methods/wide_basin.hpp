@@ -41,41 +41,46 @@ constexpr double kNearMirror = 2.0;
 // jump and keeps its end only if it fits better, so a false jump costs
 // time, not accuracy).
 constexpr double kBetterMinimum = 1.0 - kSameFit;
-// Jumps whose refined costs agree to within this share reached one minimum
-// by different paths (a few coupled steps from each leave them up to 6e-7
-// apart), and the one whose start fits best is taken: the whole log goes
-// on from the unrefined start, and from a start farther from its end a
-// longer path can end elsewhere (an unseen Go2 on partial swings, seed 19
-// truth 9: its thigh pot's map a whole turn off; the whole turn, exact,
-// and a mirror with the hip placed both refined to 2879.85, the mirror 6e-7
-// lower, and the run from it on the whole log ended with the calf a turn
-// off; not kept, flagged). Below the 6e-5 by which a start still on its
-// way can end above the minimum (the arm's wrist flip about its motion's
-// mean, against the exact flip).
+// Jumps whose refined costs lie within this share of the lowest reached
+// one minimum by different paths (a few coupled steps from each leave them
+// up to 6e-7 apart), and the one whose start fits clearly best is taken:
+// the whole log goes on from the unrefined start, and from a start farther
+// from its end a longer path can end elsewhere (an unseen Go2 on partial
+// swings, seed 19 truth 9: its thigh pot's map a whole turn off; the whole
+// turn, exact, and a mirror with the hip placed both refined to 2879.85,
+// the mirror 6e-7 lower, and the run from it on the whole log ended with
+// the calf a turn off; not kept, flagged). Below the 6e-5 by which a start
+// still on its way can end above the minimum (the arm's wrist flip about
+// its motion's mean, against the exact flip).
 constexpr double kSameRefinedFit = 1e-5;
+// Starts whose costs differ by less than this share are alike (exact jumps
+// of the same fit start at the same cost but for rounding): of those, the
+// first listed, the simplest, is taken.
+constexpr double kSameStart = 1e-6;
 
 // The choice among jumps scored one after another from a converged cost
-// `base` (jumpToBetterMinimum): one that fits better than
-// kBetterMinimum·base, else one that relieves the joints' limits and fits
-// within kSameFit of it; among those, the lowest refined cost, and of
-// those alike (kSameRefinedFit) the one whose start fits clearly best (by
-// kSameRefinedFit), else the first listed.
+// `base` (jumpToBetterMinimum): those that fit better than
+// kBetterMinimum·base, else those that relieve the joints' limits and fit
+// within kSameFit of it; of them, the lowest refined cost, or of those
+// alike to it (kSameRefinedFit) the one whose start fits clearly best
+// (kSameStart), else the first listed.
 class JumpChoice {
  public:
-  struct Held {
-    int index = -1;
-    double cost = 0, start = 0;
-  };
   explicit JumpChoice(double base) : base_(base) {}
   // Jump `index`: its cost refined and at its start, whether it relieves
   // the limits.
   void consider(int index, double cost, double start, bool relieves);
-  // The better jump, else the one within; -1: none.
-  int chosen() const { return better_.index >= 0 ? better_.index : within_.index; }
+  // The jump taken; -1: none.
+  int chosen() const;
 
  private:
+  struct Scored {
+    int index;
+    double cost, start;
+  };
+  static int pick(const std::vector<Scored>& jumps);
   double base_;
-  Held better_, within_;
+  std::vector<Scored> better_, within_;
 };
 
 // A jump whose start, refined, fits within this factor of the converged
@@ -216,6 +221,12 @@ bool turnsAny(const std::vector<PotGuess>& guesses, const MinimumMove& move,
 // UR arm's ±2π), or where most of q's angles are at or beyond them
 // (arm4's ±1.5: a pot map a turn off put all the motion a turn above them,
 // a minimum of exactly the truth's cost). None that changes a held bias.
+// First, where several motions are mostly at their limits, their whole
+// turns at once: each is exact, and one a jump round took an unseen UR10
+// (partial swings, seed 23 truth 6: five pots' maps a whole turn off)
+// beyond the rounds' budget, flagged with its wrist a turn off. Listed
+// first, it is the one taken where it fits as well as any single turn
+// (JumpChoice: exact turns start alike).
 std::vector<MinimumMove> wholeTurnMoves(const RobotModel& robot,
                                         const std::vector<PotGuess>& guesses, const RowMatrix& q);
 // Each guess on a joint that turns freely (continuous, or limits spanning
