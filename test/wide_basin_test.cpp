@@ -634,6 +634,25 @@ TEST(JumpChoice, OfJumpsThatFitAlikeTheNearestStartIsTakenAndAClearlyBetterOneWi
   EXPECT_EQ(within.chosen(), 5);
 }
 
+// Where the verdict would flag a motion beyond its limits, a relieving
+// jump that fits the subsample within kFlaggedSameFit goes on to the whole
+// log (a near-exact mirror can fit 150 frames better than the truth does);
+// elsewhere only within kSameFit.
+TEST(JumpChoice, AJumpOutOfAFlaggedMotionMayFitTheSubsampleALittleWorse) {
+  const double base = 1000, worse = base * (1 + 0.5 * kFlaggedSameFit);
+  ASSERT_GT(worse, (1 + kSameFit) * base);
+  JumpChoice unflagged(base);
+  unflagged.consider(0, worse, worse, true);
+  EXPECT_EQ(unflagged.chosen(), -1);
+  JumpChoice flagged(base, kFlaggedSameFit);
+  flagged.consider(0, worse, worse, false);  // relieves nothing
+  EXPECT_EQ(flagged.chosen(), -1);
+  flagged.consider(1, base * (1 + 2 * kFlaggedSameFit), base, true);  // too much worse
+  EXPECT_EQ(flagged.chosen(), -1);
+  flagged.consider(2, worse, worse, true);
+  EXPECT_EQ(flagged.chosen(), 2);
+}
+
 // Alike is measured from the lowest refined cost: a chain of jumps each
 // alike to the one before, its starts ever nearer, does not drift above it.
 TEST(JumpChoice, AlikeIsMeasuredFromTheLowestCost) {

@@ -387,7 +387,7 @@ bool relievesLimits(const RobotModel& robot, const std::vector<PotGuess>& guesse
 void JumpChoice::consider(int index, double cost, double start, bool relieves) {
   if (cost < kBetterMinimum * base_) {
     better_.push_back({index, cost, start});
-  } else if (relieves && cost <= (1 + kSameFit) * base_) {
+  } else if (relieves && cost <= (1 + as_well_) * base_) {
     within_.push_back({index, cost, start});
   }
 }
@@ -417,7 +417,10 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   const double base = refinedCost(est->theta, sub, PotSteps::kInverseCharts);
   const RobotModel& robot = model_.robot();
   const LimitFrames limits{atWidenedLimit(robot, sub.q), beyondLimits(robot, sub.q)};
-  JumpChoice choice(base);
+  // The joints whose motion the verdict would flag beyond their limits.
+  const std::vector<int> flagged = jointsOftenBeyondLimits(
+      model_, est->theta, noise_, loss_, sub_, sub.q, kSuspectShareAtLimit);
+  JumpChoice choice(base, flagged.empty() ? kSameFit : kFlaggedSameFit);
   std::vector<MinimumMove> moves;  // those considered, in order
   const auto consider = [&](MinimumMove move) {
     SensorParameters theta = est->theta;
@@ -437,8 +440,6 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
   for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
   // Placed back wherever the verdict would flag the motion beyond the limits.
-  const std::vector<int> flagged = jointsOftenBeyondLimits(
-      model_, est->theta, noise_, loss_, sub_, sub.q, kSuspectShareAtLimit);
   for (MinimumMove& move : recentreMoves(robot, guesses_, sub.q, flagged))
     listed.push_back(std::move(move));
   std::vector<double> cost(listed.size());
