@@ -580,6 +580,14 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAWristFlip) {
 // below j1's limits (±1.5, less than a turn apart), every reading fitted
 // exactly as at the truth (the arm4/partial misses of the basin test, at
 // the truth's cost). The jump back into the limits is found.
+// Guess g's pot map and its joint's motion `turns` whole turns off: every
+// reading fitted as before.
+void turnOff(const PotGuess& g, double turns, Estimate* est) {
+  const double turn = 2 * M_PI * turns;
+  est->state.q.col(g.column).array() += turn;
+  est->theta.joint_sensor[g.sensor].bias -= turn * est->theta.joint_sensor[g.sensor].gain;
+}
+
 TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
   ArmSetup s(arm(300));
   const WideBasin wb = s.basin(s.p.seed);
@@ -587,8 +595,7 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
   const PotGuess& g = wb.guesses()[0];
   ASSERT_EQ(g.column, 0);
   ASSERT_LT(s.p.robot.upperLimits()[0] - s.p.robot.lowerLimits()[0], 2 * M_PI);
-  est.state.q.col(0).array() -= 2 * M_PI;
-  est.theta.joint_sensor[g.sensor].bias += 2 * M_PI * est.theta.joint_sensor[g.sensor].gain;
+  turnOff(g, -1, &est);
   const auto jump = wb.jumpToBetterMinimum(&est);
   ASSERT_TRUE(jump);
   EXPECT_EQ(jump->whole_turn, std::vector<int>{0});
@@ -671,12 +678,7 @@ TEST(WideBasinAfterConvergence, JumpsBackFromSeveralMotionsATurnOutsideTheLimits
   ArmSetup s(arm(300));
   const WideBasin wb = s.basin(s.p.seed);
   Estimate est = atTheTruth(s.p);
-  for (int i : {0, 1, 3}) {
-    const PotGuess& g = wb.guesses()[i];
-    const double turn = (i == 1 ? 2 : -2) * M_PI;
-    est.state.q.col(g.column).array() += turn;
-    est.theta.joint_sensor[g.sensor].bias -= turn * est.theta.joint_sensor[g.sensor].gain;
-  }
+  for (int i : {0, 1, 3}) turnOff(wb.guesses()[i], i == 1 ? 1 : -1, &est);
   const auto jump = wb.jumpToBetterMinimum(&est);
   ASSERT_TRUE(jump);
   EXPECT_EQ(jump->whole_turn, (std::vector<int>{0, 1, 3}));
@@ -705,9 +707,7 @@ TEST(WideBasinAfterConvergence, AMotionRestingBeyondItsLimitsIsNotTurnedWithTheO
   ArmSetup s(std::move(p));
   const WideBasin wb = s.basin(s.p.seed);
   Estimate est = atTheTruth(s.p);
-  const PotGuess& g = wb.guesses()[0];
-  est.state.q.col(g.column).array() -= 2 * M_PI;
-  est.theta.joint_sensor[g.sensor].bias += 2 * M_PI * est.theta.joint_sensor[g.sensor].gain;
+  turnOff(wb.guesses()[0], -1, &est);
   const auto jump = wb.jumpToBetterMinimum(&est);
   ASSERT_TRUE(jump);
   EXPECT_EQ(jump->whole_turn, std::vector<int>{0});

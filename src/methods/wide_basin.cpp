@@ -4,8 +4,8 @@
 #include "methods/wide_basin.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "methods/tree_search.hpp"
@@ -457,7 +457,8 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   // rest 13 s of refinements), but a long one can be (the unseen Z1's arm
   // mirror over the top refined to 44x the cost about the mean, 0.997x
   // exact).
-  if (choice.chosen() < 0)
+  int chosen = choice.chosen();
+  if (chosen < 0) {
     for (size_t m = 0; m < listed.size(); ++m) {
       MinimumMove move = listed[m];
       if (!move.flip.empty() && !move.half_turn.empty() && !move.flip_about_zero &&
@@ -466,10 +467,11 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
         consider(std::move(move));
       }
     }
-  if (choice.chosen() < 0) return std::nullopt;
-  const MinimumMove& chosen = moves[choice.chosen()];
-  moveTo(chosen, false, obs_, &est->theta, &est->state);
-  return chosen;
+    chosen = choice.chosen();
+  }
+  if (chosen < 0) return std::nullopt;
+  moveTo(moves[chosen], false, obs_, &est->theta, &est->state);
+  return moves[chosen];
 }
 
 void WideBasin::moveTo(const MinimumMove& move, bool mirror_about_zero, const Observations& obs,
