@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -231,6 +232,43 @@ TEST(TurnAmbiguity, AContinuousJointsBiasIsWrittenWithinHalfATurnOfZero) {
   twoTurnsOff(&theta, &q);
   nearestTurnForContinuousJoints(held, &theta, &q);
   EXPECT_NEAR(q(2, 0), 0.2 - 4 * M_PI, 1e-12);
+}
+
+// Whole turns until the fewest frames lie beyond the joint's limits: a
+// motion partly beyond ur5's -2π comes back a turn up (or two, from
+// further), one a turn above arm4's 1.5 a turn down; a motion inside stays
+// (a turn up fits as well), and so does one that no turn brings further
+// inside. Not where something else sees the turns: a held bias, a
+// continuous joint (no limits).
+TEST(TurnAmbiguity, AMotionBeyondItsLimitsIsTurnedBackInside) {
+  const RobotModel robot = ur5();
+  std::mt19937_64 rng(3);
+  SensorsFile f =
+      parseSensorsYaml(test::inferableTruthYaml(robot, true, rng), "ur5 sensors", robot);
+  const MeasurementModel model(robot, f.sensors);
+  using Eigen::VectorXd;
+  VectorXd below = VectorXd::LinSpaced(50, -8.5, -1.0);
+  EXPECT_EQ(turnsIntoLimits(model, 0, below), 1);
+  EXPECT_EQ(turnsIntoLimits(model, 0, -below), -1);
+  EXPECT_EQ(turnsIntoLimits(model, 0, VectorXd::LinSpaced(50, -16.0, -9.0)), 2);
+  EXPECT_EQ(turnsIntoLimits(model, 0, VectorXd::LinSpaced(50, -1.0, 0.0)), 0);
+  EXPECT_EQ(turnsIntoLimits(model, 0, VectorXd::LinSpaced(50, -7.0, 7.0)), 0);
+  below.head(40).setConstant(std::numeric_limits<double>::quiet_NaN());  // no readings
+  below.tail(10).setConstant(-1.0);
+  EXPECT_EQ(turnsIntoLimits(model, 0, below), 0);
+  for (JointSensorConfig& js : f.sensors.joint_sensors)
+    if (robot.movableJoints()[js.joint].q_index == 0) js.fixed.bias = true;
+  const MeasurementModel held(robot, f.sensors);
+  EXPECT_EQ(turnsIntoLimits(held, 0, VectorXd::LinSpaced(50, -8.5, -1.0)), 0);
+
+  const RobotModel arm = RobotModel::fromString(test::kArmUrdf, "arm4");
+  const SensorsFile a = parseSensorsYaml(test::kArmTruth, "arm4", arm);
+  const MeasurementModel arm_model(arm, a.sensors);
+  const VectorXd above = VectorXd::LinSpaced(20, 2 * M_PI - 1.0, 2 * M_PI + 1.0);
+  EXPECT_EQ(turnsIntoLimits(arm_model, 0, above), -1);
+  const RobotModel continuous = arm4ContinuousBase();
+  const SensorsFile c = parseSensorsYaml(test::kArmTruth, "arm4_truth", continuous);
+  EXPECT_EQ(turnsIntoLimits(MeasurementModel(continuous, c.sensors), 0, above), 0);
 }
 
 // Through the whole calibration: started a turn off on the continuous

@@ -58,14 +58,15 @@ std::vector<UnidentifiableDirection> turnAmbiguities(const MeasurementModel& mod
 
 namespace {
 
-// Whether turning q's column j by whole turns changes nothing but the
-// biases of the pots on it (see nearestTurnForContinuousJoints).
-bool turnsFreely(const MeasurementModel& model, int j) {
+// Whether turning q's column j (a joint of `type`) by whole turns changes
+// nothing but the biases of the pots on it (see
+// nearestTurnForContinuousJoints).
+bool turnsFreely(const MeasurementModel& model, int j, JointType type) {
   const RobotModel& robot = model.robot();
   bool master = false;
   for (const MovableJoint& mj : robot.movableJoints()) {
     if (mj.q_index != j) continue;
-    if (mj.is_mimic || mj.type != JointType::kContinuous) return false;
+    if (mj.is_mimic || mj.type != type) return false;
     master = true;
   }
   if (!master) return false;
@@ -76,6 +77,13 @@ bool turnsFreely(const MeasurementModel& model, int j) {
     for (const CouplingTerm& c : t.coupling)
       if (robot.movableJoints()[c.joint].q_index == j) return false;
   return true;
+}
+
+// How many of `angles` (NaN: none) lie beyond [lo, hi] when turned by k.
+int framesBeyond(const Eigen::VectorXd& angles, double lo, double hi, int k) {
+  int n = 0;
+  for (double a : angles) n += a + 2 * M_PI * k < lo || a + 2 * M_PI * k > hi;
+  return n;
 }
 
 }  // namespace
@@ -91,7 +99,9 @@ void nearestTurnForContinuousJoints(const MeasurementModel& model, SensorParamet
     done[j] = true;
     const GainBias& pot = theta->joint_sensor[s];
     const double turn = 2 * M_PI * pot.gain;  // the bias's change per turn of q
-    if (!(std::abs(turn) > 0) || !std::isfinite(pot.bias) || !turnsFreely(model, j)) continue;
+    if (!(std::abs(turn) > 0) || !std::isfinite(pot.bias) ||
+        !turnsFreely(model, j, JointType::kContinuous))
+      continue;
     const double k = std::round(pot.bias / turn);
     if (k == 0) continue;
     // p = g·q + b = g·(q + 2πk) + (b − 2πk·g), for every pot on the joint.
@@ -100,6 +110,23 @@ void nearestTurnForContinuousJoints(const MeasurementModel& model, SensorParamet
         theta->joint_sensor[o].bias -= 2 * M_PI * k * theta->joint_sensor[o].gain;
     if (q && q->rows() > 0) q->col(j).array() += 2 * M_PI * k;
   }
+}
+
+int turnsIntoLimits(const MeasurementModel& model, int j, const Eigen::VectorXd& angles) {
+  const RobotModel& robot = model.robot();
+  const double lo = robot.lowerLimits()[j], hi = robot.upperLimits()[j];
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !turnsFreely(model, j, JointType::kRevolute))
+    return 0;
+  // Turns beyond these put every angle of a motion that reaches into the
+  // limits beyond them.
+  const int reach = 1 + static_cast<int>(std::ceil((hi - lo) / (2 * M_PI)));
+  int best = 0, fewest = framesBeyond(angles, lo, hi, 0);
+  for (int k = 1; k <= reach; ++k)
+    for (int turn : {-k, k}) {
+      const int n = framesBeyond(angles, lo, hi, turn);
+      if (n < fewest) best = turn, fewest = n;
+    }
+  return best;
 }
 
 }  // namespace stac

@@ -33,4 +33,13 @@ std::vector<UnidentifiableDirection> turnAmbiguities(const MeasurementModel& mod
 void nearestTurnForContinuousJoints(const MeasurementModel& model, SensorParameters* theta,
                                     RowMatrix* q);
 
+// A revolute joint is the same at q and q + 2πk, and a search that fits the
+// markers alone (the wide basin's, wide_basin.hpp) can end on any turn;
+// only the joint's limits tell them apart. The whole turns (0 or more
+// either way) that leave the fewest of q column j's `angles` (NaN: none)
+// beyond its URDF limits; ties: the fewest turns, so a motion already
+// inside stays. 0 for a joint whose turns something else sees (as for
+// nearestTurnForContinuousJoints), or without finite limits.
+int turnsIntoLimits(const MeasurementModel& model, int j, const Eigen::VectorXd& angles);
+
 }  // namespace stac

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "methods/tree_search.hpp"
+#include "methods/turn_ambiguity.hpp"
 #include "methods/verdict.hpp"
 #include "stac/calibrate.hpp"
 #include "stac/kinematics.hpp"
@@ -237,10 +238,19 @@ Candidate WideBasin::searchPotMaps() const {
   return s.best;
 }
 
-void WideBasin::adoptPotMaps(const Candidate& c, Estimate* est) const {
-  applyCandidate(guesses_, c, obs_, &est->state.q);
+void WideBasin::adoptPotMaps(Candidate c, Estimate* est) const {
+  RowMatrix& q = est->state.q;
+  applyCandidate(guesses_, c, obs_, &q);
   for (size_t i = 0; i < guesses_.size(); ++i) {
     const PotGuess& g = guesses_[i];
+    // The searches fit the markers, which see a revolute joint alike a
+    // turn apart; its limits decide (an unseen ANYmal with gross readings:
+    // a knee's map a turn off put its motion 5 rad beyond the knee's limit
+    // at -3π; the q-phase held those frames at the box and they crawled
+    // back 0.013 rad an iteration, unconverged after 200).
+    const int turns = turnsIntoLimits(model_, g.column, q.col(g.column));
+    c.maps[i].mid += 2 * M_PI * turns;
+    q.col(g.column).array() += 2 * M_PI * turns;
     GainBias& gb = est->theta.joint_sensor[g.sensor];
     if (!g.fixed) gb.gain = 1.0 / c.maps[i].alpha;
     if (!g.bias_held) gb.bias = g.pivot - c.maps[i].mid / c.maps[i].alpha;
