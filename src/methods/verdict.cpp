@@ -213,6 +213,69 @@ void checkLimits(const MethodInput& in, const Outcome& out, const Fit& fit,
   }
 }
 
+// The q columns of the joints whose pot gains a null or weak direction
+// names (the data do not, or barely, determine them; not a turn or a
+// mirror, whose alternatives fit exactly as well). Gains: a map collapsed
+// onto a joint held all but still leaves its gain free; a bias alone
+// trades with a gauge (the mocap frame's turn about the first joint's
+// axis) at any minimum.
+std::vector<bool> jointsOfUndeterminedGains(const RobotModel& robot, const SensorSet& sensors,
+                                         const std::vector<UnidentifiableDirection>& listed) {
+  std::vector<bool> out(robot.dof(), false);
+  for (const UnidentifiableDirection& d : listed) {
+    if (d.kind != Undetermined::kWeak && d.kind != Undetermined::kNull) continue;
+    for (const JointSensorConfig& js : sensors.joint_sensors)
+      if (std::find(d.parameters.begin(), d.parameters.end(),
+                    "joint_sensors." + js.name + ".gain") != d.parameters.end())
+        out[robot.movableJoints()[js.joint].q_index] = true;
+  }
+  return out;
+}
+
+// A null or weak direction is one the fit is flat or nearly flat along. At
+// the right minimum the markers its joints move fit as the others do;
+// where they fit clearly worse, the flat fit is a wrong minimum's (hand24,
+// partial swings, seed 31 truth 6: the middle finger's PIP and DIP pots
+// converged at gains 151 and -88, truth -2.5 and 1.4, the two joints all
+// but still, listed undetermined, the fingertip marker's median error 1.4
+// times the markers' median and 1.5 times its own at the truth, verdict
+// ok). Medians, which gross readings barely move; against the markers'
+// median, where there are at least three (a listing can span most joints
+// of a wrong minimum).
+void checkUndeterminedGains(const MethodInput& in, const Fit& fit, const CalibrationResult& r,
+                         std::vector<std::string>* why) {
+  const MeasurementModel& model = in.problem.model;
+  const RobotModel& robot = model.robot();
+  const std::vector<bool> weak =
+      jointsOfUndeterminedGains(robot, r.sensors, r.summary.unidentifiable);
+  if (std::none_of(weak.begin(), weak.end(), [](bool w) { return w; })) return;
+  const auto moved = [&](int m) {
+    for (int c : model.markerColumns(m))
+      if (weak[c]) return true;
+    return false;
+  };
+  const std::vector<SensorRatio> markers = sensorRatios(in, fit, r)[0];
+  std::vector<double> all;
+  std::vector<SensorRatio> below;
+  for (const SensorRatio& ratio : markers) {
+    all.push_back(ratio.median);
+    if (moved(ratio.sensor)) below.push_back(ratio);
+  }
+  if (all.size() < 3 || below.empty()) return;
+  std::sort(all.begin(), all.end());
+  const double typical = all[all.size() / 2];
+  const SensorRatio worst = *std::max_element(
+      below.begin(), below.end(),
+      [](const SensorRatio& a, const SensorRatio& b) { return a.median < b.median; });
+  if (!(typical > 0) || worst.median <= kWeakMarkerRatio * typical) return;
+  why->push_back("marker " + r.sensors.markers[worst.sensor].name +
+                 format(", moved by joints whose pot gains the data do not determine (listed "
+                        "unidentifiable), has a median error %.3g times the markers' median: "
+                        "likely a wrong minimum in which those joints barely move; log a wider "
+                        "motion of them, or seed their pots nearer",
+                        worst.median / typical));
+}
+
 }  // namespace
 
 bool placementUndetermined(const RobotModel& robot, const SensorSet& sensors,
@@ -307,6 +370,7 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, co
   else
     checkSensors(in, r, &why);
   checkMarkers(in, r, &why);
+  checkUndeterminedGains(in, fit, r, &why);
   checkLimits(in, out, fit, r, &why);
   // Infinite is a std the data do not determine; NaN is a failed analysis.
   if (out.uncertainty.std.hasNaN() || !std::isfinite(out.final_cost))
