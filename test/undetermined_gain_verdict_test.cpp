@@ -4,19 +4,15 @@
 // direction is a wrong minimum's, and the result is flagged.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "stac/calibrate.hpp"
 #include "support/basin_draws.hpp"
 
 namespace stac {
 namespace {
-
-bool names(const CalibrationResult& r, const std::string& what) {
-  for (const std::string& reason : r.summary.verdict)
-    if (reason.find(what) != std::string::npos) return true;
-  return false;
-}
 
 bool listsAGain(const CalibrationResult& r) {
   for (const UnidentifiableDirection& d : r.summary.unidentifiable)
@@ -41,7 +37,10 @@ TEST(UndeterminedGainVerdict, AFingerHeldStillInAFlatWrongMinimumIsFlagged) {
   if (!reached) {
     EXPECT_TRUE(listsAGain(r)) << why;
     ASSERT_TRUE(r.summary.suspect()) << "a silent miss: " << why;
-    EXPECT_TRUE(names(r, "whose pot gains the data do not determine")) << r.summary.verdict[0];
+    const std::vector<std::string>& why_not = r.summary.verdict;
+    EXPECT_TRUE(std::any_of(why_not.begin(), why_not.end(), [](const std::string& reason) {
+      return reason.find("whose pot gains the data do not determine") != std::string::npos;
+    })) << why_not[0];
   } else {
     EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
   }
