@@ -90,7 +90,8 @@ TEST(LateMinimum, AJumpsRunHasTheLimitsBudgetAnew) {
 // in another minimum of the middle finger (a marker's median error 1.76x
 // its σ's, the truth's own fit 1.2x better in marker RMS), settled, its
 // trade-off listed undetermined: verdict ok before; now suspect, as a crawl
-// that converged only after many iterations still misfitting.
+// that converged only after many iterations still misfitting (and, first,
+// for that marker, moved by pots whose gains are listed undetermined).
 TEST(LateMinimum, ACrawlTheLimitStoppedStillMisfittingIsSuspect) {
   const test::Robot hand = test::bundledRobot("hand24", 500);
   SensorParameters truth;
@@ -99,9 +100,10 @@ TEST(LateMinimum, ACrawlTheLimitStoppedStillMisfittingIsSuspect) {
   const CalibrationResult r = replay(hand, 10, 13, &truth, o);
   EXPECT_TRUE(r.summary.converged);
   EXPECT_GT(r.summary.iterations, o.max_iterations);
-  ASSERT_TRUE(r.summary.suspect());
-  EXPECT_NE(r.summary.verdict[0].find("converged only after"), std::string::npos)
-      << r.summary.verdict[0];
+  ASSERT_GE(r.summary.verdict.size(), 2u);
+  const std::string& crawl = r.summary.verdict.back();
+  EXPECT_NE(crawl.find("converged only after"), std::string::npos) << crawl;
+  EXPECT_NE(crawl.find("m_middle_"), std::string::npos) << crawl;
   EXPECT_NE(r.summary.verdict[0].find("m_middle_"), std::string::npos) << r.summary.verdict[0];
 }
 

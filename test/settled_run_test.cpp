@@ -6,7 +6,11 @@
 // 13 of the second noise draw) crawled for 200 iterations along its thumb's
 // undetermined trade-off, the cost rising by 1e-7 of itself an iteration as
 // σ followed, every determined parameter moving by 0.001 std an iteration:
-// "not converged", a right calibration flagged (a false alarm).
+// "not converged". It is converged; but it is no right calibration: the
+// thumb's MCP-abduction, MCP and IP pots end at gains 334, 33 and -159
+// (truth -1.6, -0.43, 2.1), their joints held all but still, a minimum the
+// truth's own fit determines and fits better. It passed as ok once
+// converged; the verdict's undetermined-gain check now flags it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -99,8 +103,13 @@ TEST(SettledRun, AHandCrawlingAlongItsThumbsTradeOffAtTheLimitIsConverged) {
   // budget is the limit anew, after 200.
   EXPECT_GE(r.summary.iterations, o.max_iterations);
   EXPECT_TRUE(r.summary.converged);
-  EXPECT_FALSE(r.summary.suspect()) << r.summary.verdict[0];
   EXPECT_FALSE(r.summary.unidentifiable.empty());  // the thumb's trade-off
+  // Flagged for its thumb, not for the limit.
+  ASSERT_TRUE(r.summary.suspect());
+  EXPECT_NE(r.summary.verdict[0].find("m_thumb_"), std::string::npos) << r.summary.verdict[0];
+  EXPECT_NE(r.summary.verdict[0].find("pot gains the data do not determine"), std::string::npos)
+      << r.summary.verdict[0];
+  EXPECT_EQ(r.summary.verdict.size(), 1u);
 }
 
 }  // namespace
