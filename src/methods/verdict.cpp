@@ -220,7 +220,7 @@ void checkLimits(const MethodInput& in, const Outcome& out, const Fit& fit,
 // trades with a gauge (the mocap frame's turn about the first joint's
 // axis) at any minimum.
 std::vector<bool> jointsOfUndeterminedGains(const RobotModel& robot, const SensorSet& sensors,
-                                         const std::vector<UnidentifiableDirection>& listed) {
+                                            const std::vector<UnidentifiableDirection>& listed) {
   std::vector<bool> out(robot.dof(), false);
   for (const UnidentifiableDirection& d : listed) {
     if (d.kind != Undetermined::kWeak && d.kind != Undetermined::kNull) continue;
@@ -243,7 +243,7 @@ std::vector<bool> jointsOfUndeterminedGains(const RobotModel& robot, const Senso
 // median, where there are at least three (a listing can span most joints
 // of a wrong minimum).
 void checkUndeterminedGains(const MethodInput& in, const Fit& fit, const CalibrationResult& r,
-                         std::vector<std::string>* why) {
+                            std::vector<std::string>* why) {
   const MeasurementModel& model = in.problem.model;
   const RobotModel& robot = model.robot();
   const std::vector<bool> weak =

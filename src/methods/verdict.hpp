@@ -15,10 +15,10 @@ namespace stac {
 constexpr double kSuspectFitRatio = 3.0;
 // A sensor whose RMS residual is this many times its own σ (no robust loss).
 constexpr double kSuspectSensorRatio = 4.0;
-// A marker that a weakly determined joint moves, fitting this many times
-// worse than the markers no such joint moves (median errors): well beyond
-// what sampling gives (a median over some hundred frames varies by a few
-// per cent).
+// A marker moved by a joint whose pot gain is listed undetermined, fitting
+// this many times worse than the markers' median (median errors): well
+// beyond what sampling gives (a median over some hundred frames varies by
+// a few per cent).
 constexpr double kWeakMarkerRatio = 1.25;
 
 // A joint the fit holds at a bound of the q-phase's box (the URDF limits
