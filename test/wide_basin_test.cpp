@@ -576,10 +576,6 @@ TEST(WideBasinAfterConvergence, JumpsBackFromAWristFlip) {
   EXPECT_LT(worstRmsError(est.state.q, s.p.q_true), 1e-9);
 }
 
-// j1's pot map a whole turn off, its motion with it: every angle a turn
-// below j1's limits (±1.5, less than a turn apart), every reading fitted
-// exactly as at the truth (the arm4/partial misses of the basin test, at
-// the truth's cost). The jump back into the limits is found.
 // Guess g's pot map and its joint's motion `turns` whole turns off: every
 // reading fitted as before.
 void turnOff(const PotGuess& g, double turns, Estimate* est) {
@@ -588,6 +584,10 @@ void turnOff(const PotGuess& g, double turns, Estimate* est) {
   est->theta.joint_sensor[g.sensor].bias -= turn * est->theta.joint_sensor[g.sensor].gain;
 }
 
+// j1's pot map a whole turn off, its motion with it: every angle a turn
+// below j1's limits (±1.5, less than a turn apart), every reading fitted
+// exactly as at the truth (the arm4/partial misses of the basin test, at
+// the truth's cost). The jump back into the limits is found.
 TEST(WideBasinAfterConvergence, JumpsBackFromAMotionATurnOutsideTheLimits) {
   ArmSetup s(arm(300));
   const WideBasin wb = s.basin(s.p.seed);

@@ -133,9 +133,8 @@ std::vector<std::vector<SensorRatio>> sensorRatios(const MethodInput& in, const 
 // median within bounds: the fit cost 2.7 times the truth's, verdict ok.
 // A sensor with more than a fifth of its readings far off has either that
 // many gross readings or a fit that does not explain it.
-void checkMedians(const MethodInput& in, const Fit& fit, const CalibrationResult& r,
+void checkMedians(const std::vector<std::vector<SensorRatio>>& ratios, const CalibrationResult& r,
                   const bool flagged[kNumSensorGroups], std::vector<std::string>* why) {
-  const auto ratios = sensorRatios(in, fit, r);
   for (int g = 0; g < kNumSensorGroups; ++g) {
     if (ratios[g].empty() || flagged[g]) continue;
     std::vector<SensorRatio> m = ratios[g];
@@ -242,19 +241,15 @@ std::vector<bool> jointsOfUndeterminedGains(const RobotModel& robot, const Senso
 // ok). Medians, which gross readings barely move; against the markers'
 // median, where there are at least three (a listing can span most joints
 // of a wrong minimum).
-void checkUndeterminedGains(const MethodInput& in, const Fit& fit, const CalibrationResult& r,
+// weak: jointsOfUndeterminedGains; markers: the marker group's ratios.
+void checkUndeterminedGains(const MeasurementModel& model, const std::vector<bool>& weak,
+                            const std::vector<SensorRatio>& markers, const CalibrationResult& r,
                             std::vector<std::string>* why) {
-  const MeasurementModel& model = in.problem.model;
-  const RobotModel& robot = model.robot();
-  const std::vector<bool> weak =
-      jointsOfUndeterminedGains(robot, r.sensors, r.summary.unidentifiable);
-  if (std::none_of(weak.begin(), weak.end(), [](bool w) { return w; })) return;
   const auto moved = [&](int m) {
     for (int c : model.markerColumns(m))
       if (weak[c]) return true;
     return false;
   };
-  const std::vector<SensorRatio> markers = sensorRatios(in, fit, r)[0];
   std::vector<double> all;
   std::vector<SensorRatio> below;
   for (const SensorRatio& ratio : markers) {
@@ -365,12 +360,20 @@ std::vector<std::string> verdictOf(const MethodInput& in, const Outcome& out, co
   }
   bool flagged[kNumSensorGroups] = {false, false, false};
   checkGroups(in, s, &why, flagged);
+  // The sensors' median errors: a pass over the log, once, and only where
+  // a check needs them.
+  const std::vector<bool> weak =
+      jointsOfUndeterminedGains(in.problem.model.robot(), r.sensors, s.unidentifiable);
+  const bool gain_listed = std::any_of(weak.begin(), weak.end(), [](bool w) { return w; });
+  const std::vector<std::vector<SensorRatio>> ratios =
+      robustFit(in) || gain_listed ? sensorRatios(in, fit, r)
+                                   : std::vector<std::vector<SensorRatio>>(kNumSensorGroups);
   if (robustFit(in))
-    checkMedians(in, fit, r, flagged, &why);
+    checkMedians(ratios, r, flagged, &why);
   else
     checkSensors(in, r, &why);
   checkMarkers(in, r, &why);
-  checkUndeterminedGains(in, fit, r, &why);
+  if (gain_listed) checkUndeterminedGains(in.problem.model, weak, ratios[0], r, &why);
   checkLimits(in, out, fit, r, &why);
   // Infinite is a std the data do not determine; NaN is a failed analysis.
   if (out.uncertainty.std.hasNaN() || !std::isfinite(out.final_cost))

@@ -238,7 +238,7 @@ Candidate WideBasin::searchPotMaps() const {
   return s.best;
 }
 
-void WideBasin::adoptPotMaps(Candidate c, Estimate* est) const {
+void WideBasin::adoptPotMaps(const Candidate& c, Estimate* est) const {
   RowMatrix& q = est->state.q;
   applyCandidate(guesses_, c, obs_, &q);
   for (size_t i = 0; i < guesses_.size(); ++i) {
@@ -248,12 +248,11 @@ void WideBasin::adoptPotMaps(Candidate c, Estimate* est) const {
     // a knee's map a turn off put its motion 5 rad beyond the knee's limit
     // at -3π; the q-phase held those frames at the box and they crawled
     // back 0.013 rad an iteration, unconverged after 200).
-    const int turns = turnsIntoLimits(model_, g.column, q.col(g.column));
-    c.maps[i].mid += 2 * M_PI * turns;
-    q.col(g.column).array() += 2 * M_PI * turns;
+    const double turn = 2 * M_PI * turnsIntoLimits(model_, g.column, q.col(g.column));
+    q.col(g.column).array() += turn;
     GainBias& gb = est->theta.joint_sensor[g.sensor];
     if (!g.fixed) gb.gain = 1.0 / c.maps[i].alpha;
-    if (!g.bias_held) gb.bias = g.pivot - c.maps[i].mid / c.maps[i].alpha;
+    if (!g.bias_held) gb.bias = g.pivot - (c.maps[i].mid + turn) / c.maps[i].alpha;
   }
 }
 

@@ -380,7 +380,7 @@ class WideBasin {
   // θ's pot maps from the candidate, each moved by the whole turns that
   // bring its joint's motion inside the limits (turnsIntoLimits); q's
   // guessed columns from the readings.
-  void adoptPotMaps(Candidate c, Estimate* est) const;
+  void adoptPotMaps(const Candidate& c, Estimate* est) const;
   // Marker-led alternation until the relative change of the cost is at most
   // tol (at most 30 iterations); pot_weight multiplies the pots' whitened
   // residuals (0: off), tendons are off.
