@@ -421,7 +421,8 @@ RandomCalibration randomCalibration(std::mt19937_64& rng) {
   sm.group_present[0] = sm.group_present[1] = true;
   sm.unidentifiable.push_back(
       {{"joint_sensors.neck_pot.bias", "mocap.frame.rotation.z"},
-       "the \"frame\" rotation about the first joint's axis: trades off\nwith its \\bias\\"});
+       "the \"frame\" rotation about the first joint's axis: trades off\nwith its \\bias\\",
+       Undetermined::kNull});
   sm.downweighted.push_back({7, "m1", 0.25});
   sm.downweighted.push_back({9, "a \"quoted\" name", 0.5});
   return r;
@@ -534,6 +535,7 @@ TEST(SensorsFile, CalibrationOutputRoundTripsAndFeedsBack) {
   EXPECT_EQ(sm["unidentifiable"][0]["parameters"][1].as<std::string>(), "mocap.frame.rotation.z");
   EXPECT_EQ(sm["unidentifiable"][0]["reason"].as<std::string>(),
             r.result.summary.unidentifiable[0].reason);
+  EXPECT_EQ(sm["unidentifiable"][0]["kind"].as<std::string>(), "null_direction");
   ASSERT_EQ(sm["downweighted"].size(), 2u);
   EXPECT_EQ(sm["downweighted"][1]["sensor"].as<std::string>(), "a \"quoted\" name");
   EXPECT_EQ(sm["downweighted"][1]["frame"].as<int>(), 9);

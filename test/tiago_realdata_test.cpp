@@ -147,6 +147,13 @@ TEST_F(Tiago, AtColumnsCalibrateWithNoSensorsFile) {
                             "bias of torso_lift_joint trades off with the mocap translation",
                             "bias of arm_7_joint trades off with marker"})
     EXPECT_NE(r.out.find(gauge), std::string::npos) << gauge << " in\n" << r.out;
+  // ... and each listed with its kind, for scripts: exact null directions.
+  size_t listed = 0;
+  for (size_t at = yaml.find("kind: "); at != std::string::npos; at = yaml.find("kind: ", at + 1)) {
+    EXPECT_EQ(yaml.compare(at, 20, "kind: null_direction"), 0) << yaml.substr(at, 30);
+    ++listed;
+  }
+  EXPECT_EQ(listed, 3u) << yaml;
   // The four fitted points keep the recorded body's shape (its mutual
   // distances, which no gauge changes) to a millimetre.
   const Log log = readLog(raw);

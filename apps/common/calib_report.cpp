@@ -296,7 +296,7 @@ void unidentifiableSection(std::ostringstream& o, const CalibrationSummary& s) {
        "sensor), or add markers.</p>"
        "<ul class=\"unidentifiable\">";
   for (const UnidentifiableDirection& d : s.unidentifiable) {
-    o << "<li>" << escape(d.reason) << "<br/>";
+    o << "<li>" << escape(d.reason) << " <em>(" << undeterminedName(d.kind) << ")</em><br/>";
     for (size_t i = 0; i < d.parameters.size(); ++i)
       o << (i ? " " : "") << "<code>" << escape(d.parameters[i]) << "</code>";
     o << "</li>";

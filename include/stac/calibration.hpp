@@ -37,6 +37,19 @@ enum class Undetermined {
   kMirror,       // a discrete alternative (a mirror configuration) fits as well
 };
 
+// The kind's name in the calibration YAML (summary.unidentifiable[].kind),
+// the Python dicts and the report: what a script tells the kinds apart by.
+inline const char* undeterminedName(Undetermined kind) {
+  switch (kind) {
+    case Undetermined::kNull: return "null_direction";
+    case Undetermined::kWeak: return "weak";
+    case Undetermined::kModuloTurn: return "modulo_turn";
+    case Undetermined::kStillJoint: return "still_joint";
+    case Undetermined::kMirror: return "mirror";
+  }
+  return "weak";
+}
+
 struct UnidentifiableDirection {
   std::vector<std::string> parameters;  // e.g. "joint_sensors.pan_pot.bias"
   std::string reason;                   // one human sentence

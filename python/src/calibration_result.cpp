@@ -83,7 +83,8 @@ py::dict perGroup(const CalibrationSummary& s, const double* values) {
 py::list unidentifiableList(const CalibrationSummary& s) {
   py::list l;
   for (const UnidentifiableDirection& d : s.unidentifiable)
-    l.append(py::dict("parameters"_a = d.parameters, "reason"_a = d.reason));
+    l.append(py::dict("parameters"_a = d.parameters, "reason"_a = d.reason,
+                      "kind"_a = undeterminedName(d.kind)));
   return l;
 }
 

@@ -104,6 +104,7 @@ class _Residual(TypedDict):
 class _Unidentifiable(TypedDict):
     parameters: List[str]
     reason: str
+    kind: str  # null_direction, weak, modulo_turn, still_joint or mirror
 
 class Summary(TypedDict):
     method: str

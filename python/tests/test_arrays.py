@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import stac
-from conftest import DATA
+from conftest import DATA, SOURCE
 
 
 def test_log_values_are_a_read_only_view(gimbal2):
@@ -140,3 +140,24 @@ def test_paths_may_be_pathlib(tmp_path, data):
     stac.write_log(tmp_path / "log.csv", log)
     assert (tmp_path / "seed.yaml").read_text() == seed.to_yaml()
     assert (tmp_path / "log.csv").read_bytes() == (data / "gimbal2_example.csv").read_bytes()
+
+
+def test_unidentifiable_directions_carry_their_kind():
+    """The real TIAGo recording, a marker per point-1 columns and every gain
+    and bias free: three exact gauges, each listed with kind null_direction."""
+    tiago = SOURCE.resolve().parent / "shared" / "realdata" / "tiago"
+    if not tiago.is_dir():
+        pytest.skip("no ../shared/realdata/tiago")
+    raw = np.genfromtxt(tiago / "qualisys_2021-11-30_static_postures.csv", delimiter=",",
+                        names=True)
+    joints = ["torso_lift_joint"] + ["arm_%d_joint" % i for i in range(1, 8)]
+    columns = ["p1@wrist_ft_tool_link." + a for a in "xyz"] + joints
+    log = stac.Log(np.column_stack([raw[c] for c in ["x1", "y1", "z1"] + joints]), columns)
+    robot = stac.RobotModel.from_urdf(tiago / "tiago_48_schunk.urdf")
+    r = stac.calibrate(robot, stac.infer_sensors(log, robot), log, threads=1)
+    assert r.ok, r.verdict
+    assert len(r.unidentifiable) == 3
+    assert {u["kind"] for u in r.unidentifiable} == {"null_direction"}
+    biases = {p for u in r.unidentifiable for p in u["parameters"] if p.endswith(".bias")}
+    assert biases == {"joint_sensors.%s.bias" % j
+                      for j in ("torso_lift_joint", "arm_1_joint", "arm_7_joint")}

@@ -254,6 +254,7 @@ void unidentifiable(std::string& o, const std::vector<UnidentifiableDirection>& 
     for (size_t k = 0; k < d.parameters.size(); ++k)
       o += (k ? ", " : "") + quoted(d.parameters[k]);
     o += "]\n      reason: " + quoted(d.reason) + "\n";
+    o += "      kind: " + std::string(undeterminedName(d.kind)) + "\n";
   }
 }
 
