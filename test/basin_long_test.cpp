@@ -26,7 +26,9 @@
 // STAC_BASIN_NO_SCREEN=1 fits the outlier rows without setting spikes in
 // time aside first (spike_screen.hpp). Other robots without a rebuild:
 // STAC_ROBOTS_DIR=dir (its *.urdf instead of the configured set),
-// STAC_BASIN_MAX_DOF=n (robots up to n joints instead of 12).
+// STAC_BASIN_MAX_DOF=n (robots up to n joints instead of 12),
+// STAC_BASIN_LAYOUT=n (their sensors laid out at random from seed n: some
+// links without a marker, some with two, path tendons; see layoutSeed).
 // STAC_BASIN_NOISE_SEED=n draws the motion and noise anew for the same
 // truths; STAC_BASIN_Z=text prints the z of every parameter whose name
 // holds it, reached or not (is a std honest?); STAC_BASIN_TICKS=K logs
@@ -63,6 +65,14 @@ using test::simulateVariant;
 using test::Variant;
 using test::variantName;
 
+// STAC_BASIN_LAYOUT=n: the real robots' sensors laid out at random from
+// seed n, as an independent generator lays them (external_sensors.hpp),
+// instead of as sensor inference names them.
+unsigned layoutSeed() {
+  const char* env = std::getenv("STAC_BASIN_LAYOUT");
+  return env ? static_cast<unsigned>(std::strtoul(env, nullptr, 10)) : 0;
+}
+
 std::vector<Robot> robots(int max_dof) {
   std::vector<Robot> out;
   {
@@ -81,7 +91,7 @@ std::vector<Robot> robots(int max_dof) {
   for (const std::string& urdf : test::externalUrdfs()) {
     RobotModel m = RobotModel::fromFile(urdf);
     if (m.dof() > max_dof) continue;
-    out.push_back(externalRobot(std::move(m), 600));
+    out.push_back(externalRobot(std::move(m), 600, layoutSeed()));
   }
   return out;
 }
@@ -339,7 +349,7 @@ TEST(Basin, ContinuousJoints) {
     for (size_t at = text.find("type=\"revolute\""); at != std::string::npos;
          at = text.find("type=\"revolute\"", at))
       text.replace(at, 15, "type=\"continuous\"");
-    Robot robot = externalRobot(RobotModel::fromString(text, "ur5_continuous"), 600);
+    Robot robot = externalRobot(RobotModel::fromString(text, "ur5_continuous"), 600, layoutSeed());
     robot.name = "ur5_continuous";
     expectBasin(robot, runVariant(robot, Variant::kPlain, truthsPerVariant(), robot.frames));
   }
@@ -349,7 +359,7 @@ TEST(Basin, ContinuousJoints) {
 TEST(Basin, TalosShortLog) {
   for (const std::string& urdf : test::externalUrdfs()) {
     if (urdf.find("talos") == std::string::npos) continue;
-    Robot robot = externalRobot(RobotModel::fromFile(urdf), 2000);
+    Robot robot = externalRobot(RobotModel::fromFile(urdf), 2000, layoutSeed());
     expectBasin(robot, runVariant(robot, Variant::kPlain, truthsPerVariant(), robot.frames));
   }
 }

@@ -139,10 +139,11 @@ Robot bundledRobot(const std::string& name, int frames) {
   return {name, std::move(m), std::move(seed), frames};
 }
 
-Robot externalRobot(RobotModel m, int frames) {
-  std::mt19937_64 rng(7);
-  SensorsFile t =
-      parseSensorsYaml(test::inferableTruthYaml(m, true, rng), m.name() + " sensors", m);
+Robot externalRobot(RobotModel m, int frames, unsigned layout_seed) {
+  std::mt19937_64 rng(layout_seed ? layout_seed : 7);
+  const std::string yaml = layout_seed ? test::randomLayoutTruthYaml(m, rng)
+                                       : test::inferableTruthYaml(m, true, rng);
+  SensorsFile t = parseSensorsYaml(yaml, m.name() + " sensors", m);
   const std::string name = m.name();
   return {name, std::move(m), std::move(t), frames};
 }

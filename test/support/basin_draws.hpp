@@ -22,8 +22,10 @@ struct Robot {
 };
 
 // A public robot with the sensors a user would log without a sensors file,
-// the gauges removed by CAD-known markers (external_sensors.hpp).
-Robot externalRobot(RobotModel m, int frames);
+// the gauges removed by CAD-known markers (external_sensors.hpp); with a
+// layout_seed, the sensors laid out at random as an independent generator
+// would (randomLayoutTruthYaml) instead.
+Robot externalRobot(RobotModel m, int frames, unsigned layout_seed = 0);
 
 // A bundled robot (data/<name>.urdf): the seed file's fixed parameters
 // (the gauges), the truth file's values for them.

@@ -68,4 +68,83 @@ std::string inferableTruthYaml(const RobotModel& robot, bool fix_gauges, std::mt
   return o.str();
 }
 
+namespace {
+
+// A point r metres from the origin, in a uniformly random direction.
+std::string offsetPoint(std::mt19937_64& rng, double r) {
+  Eigen::Vector3d d;
+  do d = Eigen::Vector3d(uni(rng, -1, 1), uni(rng, -1, 1), uni(rng, -1, 1));
+  while (d.norm() > 1 || d.norm() < 1e-3);
+  d *= r / d.norm();
+  return "[" + num(d.x()) + ", " + num(d.y()) + ", " + num(d.z()) + "]";
+}
+
+// The rigid groups of the robot's links: each link's group is named by its
+// head, the nearest link at or above it that a movable joint moves (or the
+// root), since fixed joints fold a link into its parent.
+struct RigidGroups {
+  std::vector<int> head_of;               // per link
+  std::vector<std::vector<int>> members;  // per head link: the group's links
+  std::vector<int> heads;                 // every head, root first
+};
+
+RigidGroups rigidGroups(const RobotModel& robot) {
+  RigidGroups g;
+  g.head_of.resize(robot.numLinks());
+  g.members.resize(robot.numLinks());
+  for (int l = 0; l < robot.numLinks(); ++l) {
+    int h = l;
+    while (robot.links()[h].movable_joint < 0 && robot.links()[h].parent >= 0)
+      h = robot.links()[h].parent;
+    g.head_of[l] = h;
+    g.members[h].push_back(l);
+  }
+  for (int l = 0; l < robot.numLinks(); ++l)
+    if (!g.members[l].empty()) g.heads.push_back(l);
+  return g;
+}
+
+int pick(std::mt19937_64& rng, const std::vector<int>& from) {
+  return from[std::uniform_int_distribution<size_t>(0, from.size() - 1)(rng)];
+}
+
+}  // namespace
+
+std::string randomLayoutTruthYaml(const RobotModel& robot, std::mt19937_64& rng) {
+  const RigidGroups g = rigidGroups(robot);
+  std::ostringstream o;
+  o << "mocap:\n  sigma: 0.002\n  markers:\n";
+  const int n = std::max(3, static_cast<int>(std::lround(uni(rng, 0.5, 1.0) * g.heads.size())));
+  const int fixed_a = std::uniform_int_distribution<int>(0, n - 1)(rng);
+  const int fixed_b = (fixed_a + 1 + std::uniform_int_distribution<int>(0, n - 2)(rng)) % n;
+  for (int k = 0; k < n; ++k) {
+    const int link = pick(rng, g.members[pick(rng, g.heads)]);
+    o << "    - name: m" << k << "\n      link: " << robot.links()[link].name
+      << "\n      position: " << offsetPoint(rng, uni(rng, 0.01, 0.05))
+      << "\n      fixed: " << (k == fixed_a || k == fixed_b ? "true" : "false") << "\n";
+  }
+  o << "joint_sensors:\n";
+  for (int i = 0; i < robot.dof(); ++i)
+    o << "  - {name: " << robot.qName(i) << ", joint: " << robot.qName(i)
+      << ", gain: 1.0, bias: 0.0, sigma: 0.01}\n";
+  std::vector<int> moving;  // heads a movable joint moves
+  for (int h : g.heads)
+    if (robot.links()[h].movable_joint >= 0) moving.push_back(h);
+  if (moving.empty()) return o.str();
+  o << "tendon_sensors:\n";
+  for (int k = 0; k < 3; ++k) {
+    const int distal = pick(rng, moving);
+    int proximal = distal;
+    for (int up = std::uniform_int_distribution<int>(1, 3)(rng);
+         up > 0 && robot.links()[proximal].parent >= 0; --up)
+      proximal = g.head_of[robot.links()[proximal].parent];
+    o << "  - name: tendon" << k << "\n    gain: 1.0\n    bias: 0.0\n    sigma: 0.001\n"
+      << "    path:\n";
+    for (int head : {proximal, distal})
+      o << "      - {link: " << robot.links()[pick(rng, g.members[head])].name
+        << ", point: " << offsetPoint(rng, uni(rng, 0.02, 0.05)) << "}\n";
+  }
+  return o.str();
+}
+
 }  // namespace stac::test

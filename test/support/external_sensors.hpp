@@ -20,4 +20,14 @@ namespace stac::test {
 // gauge freedoms of SPEC §3.
 std::string inferableTruthYaml(const RobotModel& robot, bool fix_gauges, std::mt19937_64& rng);
 
+// Sensors laid out as an independent generator lays them (issue 13's
+// TALOS case), not as sensor inference names them: a pot on every joint of
+// q; markers 1-5 cm from the origin of a random link of a random rigid
+// group (a link with the links fixed to it), about one for every one or two
+// moving groups, so some groups carry two and some none; two random markers
+// fixed; three path tendons from a link to one 1-3 joints below it, each
+// anchored 2-5 cm off its links' origins (σ 1 mm). The layout is drawn from
+// `rng`; the values are a truth to be redrawn (basin_draws.hpp).
+std::string randomLayoutTruthYaml(const RobotModel& robot, std::mt19937_64& rng);
+
 }  // namespace stac::test
