@@ -257,5 +257,25 @@ TEST_F(HuberArm, AWrongHuberEndIsReplacedByHubersRunFromCauchysEnd) {
   EXPECT_TRUE(kept.converged);
 }
 
+// Cauchy's run from the seed may itself end off the minimum (its loss is
+// not convex, and with σ adapted its run stops on a flat stretch): here
+// Cauchy's end is the arm's right fit with one pot's gain moved 3.5 std.
+// Huber's run from there comes back to its own end, so the two still
+// disagree; Cauchy's run from Huber's end stays with it and fits Cauchy's
+// problem better than that Cauchy end, so the disagreement is Cauchy's
+// run's, not a bias of Huber's, and no reason is given (an unseen UR3 and
+// Falcon with gross readings were flagged so, their Huber ends within 1.6
+// and 0.9 std of the truth).
+TEST_F(HuberArm, ACauchyEndOffTheMinimumDoesNotCondemnARightHuberEnd) {
+  ASSERT_TRUE(right.loss_disagreement.empty()) << right.loss_disagreement;
+  CauchyFit off{right.theta, right.uncertainty.std, {}, right.q};
+  off.theta.joint_sensor[j].gain += 3.5 * right.uncertainty.std[gain];
+  ASSERT_FALSE(lossDisagreement(model, right, off).empty());
+  const Outcome kept = reconcileWithCauchy(in, right, off);
+  EXPECT_TRUE(kept.loss_disagreement.empty()) << kept.loss_disagreement;
+  EXPECT_NEAR(kept.theta.joint_sensor[j].gain, right.theta.joint_sensor[j].gain,
+              right.uncertainty.std[gain]);
+}
+
 }  // namespace
 }  // namespace stac

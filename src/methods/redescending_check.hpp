@@ -77,8 +77,12 @@ Outcome crossCheckWithCauchy(const MethodInput& in, Outcome huber);
 // either's std, Huber's run goes on once more from Cauchy's end, and that
 // run replaces `huber` if it converged and fits every reading better
 // under Cauchy's loss at `huber`'s σ, the q_t solved for (the first run had
-// ended in a wrong minimum). The outcome returned has loss_disagreement
-// set (verdict reason) where it and Cauchy's still disagree.
+// ended in a wrong minimum). Where they still disagree, Cauchy's run goes
+// on from Huber's end: if it stays with it and fits Cauchy's problem as
+// well as Cauchy's own end, the disagreement was Cauchy's run's (its end
+// off the minimum), not Huber's bias. The outcome returned has
+// loss_disagreement set (verdict reason) where it and Cauchy's still
+// disagree.
 Outcome reconcileWithCauchy(const MethodInput& in, Outcome huber, const CauchyFit& cauchy);
 
 }  // namespace stac
