@@ -289,7 +289,7 @@ Tally runVariant(const Robot& robot_in, Variant v, int truths, int frames) {
       }
       const SensorSet& ss = robot.truth.sensors;
       for (size_t m = 0; m < ss.markers.size(); ++m)
-        std::printf("    %s %.3g/%.3g\n", ss.markers[m].name.c_str(), r.marker_residual[m].rms / ss.markers[m].sigma, rt.marker_residual[m].rms / ss.markers[m].sigma);
+        std::printf("    %s on %s %.3g/%.3g\n", ss.markers[m].name.c_str(), ss.markers[m].link_name.c_str(), r.marker_residual[m].rms / ss.markers[m].sigma, rt.marker_residual[m].rms / ss.markers[m].sigma);
       for (size_t m = 0; m < ss.joint_sensors.size(); ++m)
         std::printf("    %s %.3g/%.3g  gain %.4g/%.4g bias %.4g/%.4g\n", ss.joint_sensors[m].name.c_str(), r.joint_residual[m].rms / ss.joint_sensors[m].sigma, rt.joint_residual[m].rms / ss.joint_sensors[m].sigma, r.theta.joint_sensor[m].gain, truth.joint_sensor[m].gain, r.theta.joint_sensor[m].bias, truth.joint_sensor[m].bias);
       for (size_t m = 0; m < ss.tendon_sensors.size(); ++m)

@@ -178,17 +178,15 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
   return moves;
 }
 
-// p = g q + b = (-g) (2c - q) + (b + 2 g c); about c = 0 where the bias is
-// held, so that it stays.
-namespace {
+// p = g q + b = (-g) (2c - q) + (b + 2 g c).
 void mirrorAbout(const PotGuess& g, double c, SensorParameters* theta, RowMatrix* q) {
   q->col(g.column) = (2.0 * c - q->col(g.column).array()).matrix();
   GainBias& gb = theta->joint_sensor[g.sensor];
   gb.bias += 2.0 * gb.gain * c;
   gb.gain = -gb.gain;
 }
-}  // namespace
 
+// About c = 0 where the bias is held, so that it stays.
 void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q) {
   mirrorAbout(g, g.bias_held ? 0.0 : q->col(g.column).mean(), theta, q);
 }
@@ -513,7 +511,9 @@ void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
       exact ? flipCentres(robot, guesses, move) : std::vector<double>();
   for (size_t f = 0; f < move.flip.size(); ++f) {
     const PotGuess& g = guesses[move.flip[f]];
-    if (exact)
+    if (std::isfinite(move.flip_centre))
+      mirrorAbout(g, move.flip_centre, theta, q);
+    else if (exact)
       flipAboutTurns(robot, g, centres[f], theta, q);
     else
       flipSign(g, theta, q);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <utility>
 
+#include "methods/tendon_mirror.hpp"
 #include "methods/tree_search.hpp"
 #include "methods/turn_ambiguity.hpp"
 #include "methods/verdict.hpp"
@@ -322,6 +323,37 @@ double WideBasin::refine(SensorParameters* theta, QState* state, PotSteps pots) 
 // or a finger's last joint, which only the tendons spanning it see). Each
 // sign move, tried from the current estimate and refined by a few
 // alternations on the subsample, is kept if it lowers the cost clearly.
+std::vector<MinimumMove> WideBasin::tendonMirrorMoves(const SensorParameters& theta,
+                                                      const RowMatrix& q) const {
+  std::vector<MinimumMove> out;
+  for (int i = 0; i < static_cast<int>(guesses_.size()); ++i) {
+    const PotGuess& g = guesses_[i];
+    if (g.fixed || g.bias_held || !seenOnlyByTendons(model_, g.column)) continue;
+    if (std::optional<double> c = tendonMirrorCentre(model_, theta, q, g.column)) {
+      MinimumMove move{{i}, {}, {}};
+      move.flip_centre = *c;
+      out.push_back(std::move(move));
+    }
+  }
+  return out;
+}
+
+std::vector<Estimate> WideBasin::signMoved(const Estimate& est,
+                                           const std::vector<int>& move) const {
+  std::vector<Estimate> out(1, est);
+  for (int i : move) flipSign(guesses_[i], &out[0].theta, &out[0].state.q);
+  // A joint only tendons see: also mirrored about where they are symmetric.
+  if (move.size() != 1 || guesses_[move[0]].bias_held || guesses_[move[0]].fixed) return out;
+  const PotGuess& g = guesses_[move[0]];
+  if (!seenOnlyByTendons(model_, g.column)) return out;
+  if (std::optional<double> c = tendonMirrorCentre(model_, est.theta,
+                                                   subsampleAngles(est.state.q), g.column)) {
+    out.push_back(est);
+    mirrorAbout(g, *c, &out[1].theta, &out[1].state.q);
+  }
+  return out;
+}
+
 bool WideBasin::recheckSigns(Estimate* est) const {
   QState ss;
   ss.q = subsampleAngles(est->state.q);
@@ -338,16 +370,17 @@ bool WideBasin::recheckSigns(Estimate* est) const {
       // about its column's mean, which the subsample's would shift (by
       // 0.05 rad on the basin test's hand, the refined costs then 4163
       // and 17170), so what is scored is what would be kept.
-      Estimate moved = *est;
-      for (int i : move) flipSign(guesses_[i], &moved.theta, &moved.state.q);
-      QState st;
-      st.q = subsampleAngles(moved.state.q);
-      const double cost = refinedCost(moved.theta, st);
-      if (!(cost < 0.8 * base)) continue;
-      // Clearly better: keep it.
-      *est = std::move(moved);
-      base = cost;
-      changed = flipped_any = true;
+      for (Estimate& moved : signMoved(*est, move)) {
+        QState st;
+        st.q = subsampleAngles(moved.state.q);
+        const double cost = refinedCost(moved.theta, st);
+        if (!(cost < 0.8 * base)) continue;
+        // Clearly better: keep it.
+        *est = std::move(moved);
+        base = cost;
+        changed = flipped_any = true;
+        break;
+      }
     }
     if (!changed) break;
   }
@@ -448,6 +481,7 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   std::vector<MinimumMove> listed = minimumMoves(robot, guesses_, moves_, &through);
   for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
   for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
+  for (MinimumMove& move : tendonMirrorMoves(est->theta, sub.q)) listed.push_back(std::move(move));
   // Placed back wherever the verdict would flag the motion beyond the limits.
   for (MinimumMove& move : recentreMoves(robot, guesses_, sub.q, flagged))
     listed.push_back(std::move(move));

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -184,6 +185,8 @@ std::vector<std::vector<int>> signMoves(const RobotModel& robot,
 // bias is held) and flips the sign of its pot's map so that the pot's
 // predictions stay the same.
 void flipSign(const PotGuess& g, SensorParameters* theta, RowMatrix* q);
+// Mirrors column g.column about c and flips its pot's map to match.
+void mirrorAbout(const PotGuess& g, double c, SensorParameters* theta, RowMatrix* q);
 // Moves joint angle column `g.column` half a turn (toward the middle of the
 // joint's limits) and shifts its pot's bias so that the pot's predictions
 // stay the same.
@@ -206,6 +209,9 @@ struct MinimumMove {
   double place = 0.5;
   // Guesses below `recentre` placed in their limits' middle (after `flip`).
   std::vector<int> recentre_below = {};
+  // Where finite, `flip`'s one guess mirrored about it instead (a joint only
+  // tendons see, mirrored where they are symmetric: tendon_mirror.hpp).
+  double flip_centre = std::numeric_limits<double>::quiet_NaN();
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
@@ -387,6 +393,14 @@ class WideBasin {
   void alternate(double pot_weight, double tol, Estimate* est) const;
   // The coupled re-check of the signs (see the .cpp); whether one changed.
   bool recheckSigns(Estimate* est) const;
+  // est with sign move `move` applied (flipSign); for one pot on a joint
+  // only tendons see, also with it mirrored about where they are symmetric
+  // (tendon_mirror.hpp).
+  std::vector<Estimate> signMoved(const Estimate& est, const std::vector<int>& move) const;
+  // For each pot on a joint only tendons see, its sign move about where
+  // they are symmetric at θ and the angles q (rows of the subsample).
+  std::vector<MinimumMove> tendonMirrorMoves(const SensorParameters& theta,
+                                             const RowMatrix& q) const;
   // The estimate from the pots' maps (none: no pot guessed) and q on entry:
   // every step above after the search.
   Estimate estimateFrom(const Candidate* maps, QState state) const;
