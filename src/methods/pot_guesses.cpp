@@ -511,8 +511,8 @@ void applyMove(const RobotModel& robot, const std::vector<PotGuess>& guesses,
       exact ? flipCentres(robot, guesses, move) : std::vector<double>();
   for (size_t f = 0; f < move.flip.size(); ++f) {
     const PotGuess& g = guesses[move.flip[f]];
-    if (std::isfinite(move.flip_centre))
-      mirrorAbout(g, move.flip_centre, theta, q);
+    if (!move.flip_centres.empty())
+      mirrorAbout(g, move.flip_centres[f], theta, q);
     else if (exact)
       flipAboutTurns(robot, g, centres[f], theta, q);
     else

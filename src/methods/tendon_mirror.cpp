@@ -13,9 +13,14 @@ namespace stac {
 namespace {
 
 // Grid points of the centre's search over its span, then golden-section
-// steps about the best.
-constexpr int kCentreGrid = 64;
-constexpr int kGoldenSteps = 30;
+// steps about the best (to 1e-5 of two grid steps);
+// rows of q it uses at most,
+// spread over them (a symmetry holds in every frame, and the listing tries
+// the centres of every flip a tendon spans: hand24's took 2.5x the
+// calibration's time over every row of the subsample).
+constexpr int kCentreGrid = 16;
+constexpr int kGoldenSteps = 24;
+constexpr int kCentreRows = 10;
 
 bool spans(const std::vector<int>& columns, int j) {
   return std::find(columns.begin(), columns.end(), j) != columns.end();
@@ -54,12 +59,15 @@ std::vector<int> tendonsOver(const MeasurementModel& model, int j) {
 class MirrorMismatch {
  public:
   MirrorMismatch(const MeasurementModel& model, const SensorParameters& theta, const RowMatrix& q,
-                 int j)
-      : model_(model), q_(q), j_(j), tendons_(tendonsOver(model, j)),
+                 const RowMatrix& moved, int j)
+      : model_(model), q_(q), moved_(moved), j_(j), tendons_(tendonsOver(model, j)),
         ws_(model.robot()) {
     applyJointOrigins(model, theta, &ws_);
+    const int n = static_cast<int>(q.rows());
+    for (int k = 0; k < std::min(n, kCentreRows); ++k)
+      rows_.push_back(n <= kCentreRows ? k : static_cast<int>((k + 0.5) * n / kCentreRows));
     before_.resize(q.rows() * tendons_.size());
-    for (int t = 0; t < q.rows(); ++t) {
+    for (int t : rows_) {
       const std::vector<double> r = readings(q.row(t).transpose());
       std::copy(r.begin(), r.end(), before_.begin() + t * tendons_.size());
     }
@@ -67,9 +75,9 @@ class MirrorMismatch {
   bool empty() const { return tendons_.empty() || q_.rows() == 0; }
   double operator()(double c) {
     double sum = 0;
-    for (int t = 0; t < q_.rows(); ++t) {
-      Eigen::VectorXd qt = q_.row(t).transpose();
-      qt[j_] = 2 * c - qt[j_];
+    for (int t : rows_) {
+      Eigen::VectorXd qt = moved_.row(t).transpose();
+      qt[j_] = 2 * c - q_(t, j_);
       const std::vector<double> r = readings(qt);
       for (size_t k = 0; k < r.size(); ++k) {
         const double d = r[k] - before_[t * tendons_.size() + k];
@@ -89,13 +97,17 @@ class MirrorMismatch {
   }
   const MeasurementModel& model_;
   const RowMatrix& q_;
+  const RowMatrix& moved_;
   const int j_;
   const std::vector<int> tendons_;
+  std::vector<int> rows_;  // the rows of q the mismatch sums over
   KinematicsWorkspace ws_;
   std::vector<double> before_;
 };
 
 }  // namespace
+
+bool seenByTendons(const MeasurementModel& model, int j) { return !tendonsOver(model, j).empty(); }
 
 bool seenOnlyByTendons(const MeasurementModel& model, int j) {
   for (int m = 0; m < static_cast<int>(model.sensors().markers.size()); ++m)
@@ -105,8 +117,9 @@ bool seenOnlyByTendons(const MeasurementModel& model, int j) {
 
 std::optional<double> tendonMirrorCentre(const MeasurementModel& model,
                                          const SensorParameters& theta, const RowMatrix& q,
-                                         int j) {
-  MirrorMismatch mismatch(model, theta, q, j);
+                                         int j, const RowMatrix* moved) {
+  if (moved && (moved->rows() != q.rows() || moved->cols() != q.cols())) return std::nullopt;
+  MirrorMismatch mismatch(model, theta, q, moved ? *moved : q, j);
   if (mismatch.empty()) return std::nullopt;
   const RobotModel& robot = model.robot();
   const bool revolute = robot.movableJoints()[robot.qJoints()[j]].type != JointType::kPrismatic;

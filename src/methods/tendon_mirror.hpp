@@ -28,10 +28,15 @@ bool seenOnlyByTendons(const MeasurementModel& model, int j);
 // (q_j -> 2c - q_j), change the lengths of the tendons spanning it least
 // (θ's joint-origin corrections; the other columns as they are); for a revolute joint
 // c is a mirror modulo half turns, and the one returned keeps the mirrored
-// motion nearest the middle of the joint's limits. nullopt where no tendon
-// spans j or q has no rows.
+// motion nearest the middle of the joint's limits. With `moved`, the
+// mirrored frames are those of `moved` (q with other columns already
+// moved by the same jump: a half turn above, another flip), column j set
+// to 2c - q_j. nullopt where no tendon spans j or q has no rows.
 std::optional<double> tendonMirrorCentre(const MeasurementModel& model,
                                          const SensorParameters& theta, const RowMatrix& q,
-                                         int j);
+                                         int j, const RowMatrix* moved = nullptr);
+
+// Whether some tendon's length depends on q column j.
+bool seenByTendons(const MeasurementModel& model, int j);
 
 }  // namespace stac

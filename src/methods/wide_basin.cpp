@@ -323,19 +323,38 @@ double WideBasin::refine(SensorParameters* theta, QState* state, PotSteps pots) 
 // or a finger's last joint, which only the tendons spanning it see). Each
 // sign move, tried from the current estimate and refined by a few
 // alternations on the subsample, is kept if it lowers the cost clearly.
-std::vector<MinimumMove> WideBasin::tendonMirrorMoves(const SensorParameters& theta,
-                                                      const RowMatrix& q) const {
-  std::vector<MinimumMove> out;
-  for (int i = 0; i < static_cast<int>(guesses_.size()); ++i) {
-    const PotGuess& g = guesses_[i];
-    if (g.fixed || g.bias_held || !seenOnlyByTendons(model_, g.column)) continue;
-    if (std::optional<double> c = tendonMirrorCentre(model_, theta, q, g.column)) {
-      MinimumMove move{{i}, {}, {}};
-      move.flip_centre = *c;
-      out.push_back(std::move(move));
-    }
+std::optional<MinimumMove> WideBasin::tendonCentred(const MinimumMove& move,
+                                                    const SensorParameters& theta,
+                                                    const RowMatrix& q, bool only_tendons) const {
+  if (move.flip.empty() || !move.wrap.empty() || !move.recentre.empty()) return std::nullopt;
+  bool spanned = false;
+  for (int i : move.flip) {
+    if (guesses_[i].bias_held) return std::nullopt;  // its mirror is about its held zero
+    const int j = guesses_[i].column;
+    spanned |= only_tendons ? seenOnlyByTendons(model_, j) : seenByTendons(model_, j);
   }
-  return out;
+  if (!spanned) return std::nullopt;
+  // A flipped joint's own half turn is absorbed in its centre.
+  MinimumMove centred = move;
+  centred.flip_about_zero = false;
+  centred.half_turn.clear();
+  for (int i : move.half_turn)
+    if (std::find(move.flip.begin(), move.flip.end(), i) == move.flip.end())
+      centred.half_turn.push_back(i);
+  // The frames with the jump's turns, then each flip about its centre in turn.
+  MinimumMove turns = centred;
+  turns.flip.clear();
+  SensorParameters scratch = theta;
+  RowMatrix moved = q;
+  applyMove(model_.robot(), guesses_, turns, &scratch, &moved);
+  for (int i : move.flip) {
+    const int j = guesses_[i].column;
+    const double c =
+        tendonMirrorCentre(model_, theta, q, j, &moved).value_or(q.col(j).mean());
+    centred.flip_centres.push_back(c);
+    moved.col(j) = (2 * c - q.col(j).array()).matrix();
+  }
+  return centred;
 }
 
 std::vector<Estimate> WideBasin::signMoved(const Estimate& est,
@@ -343,13 +362,10 @@ std::vector<Estimate> WideBasin::signMoved(const Estimate& est,
   std::vector<Estimate> out(1, est);
   for (int i : move) flipSign(guesses_[i], &out[0].theta, &out[0].state.q);
   // A joint only tendons see: also mirrored about where they are symmetric.
-  if (move.size() != 1 || guesses_[move[0]].bias_held || guesses_[move[0]].fixed) return out;
-  const PotGuess& g = guesses_[move[0]];
-  if (!seenOnlyByTendons(model_, g.column)) return out;
-  if (std::optional<double> c = tendonMirrorCentre(model_, est.theta,
-                                                   subsampleAngles(est.state.q), g.column)) {
+  if (std::optional<MinimumMove> centred =
+          tendonCentred({move, {}, {}}, est.theta, subsampleAngles(est.state.q), true)) {
     out.push_back(est);
-    mirrorAbout(g, *c, &out[1].theta, &out[1].state.q);
+    applyMove(model_.robot(), guesses_, *centred, &out[1].theta, &out[1].state.q);
   }
   return out;
 }
@@ -481,7 +497,11 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   std::vector<MinimumMove> listed = minimumMoves(robot, guesses_, moves_, &through);
   for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
   for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
-  for (MinimumMove& move : tendonMirrorMoves(est->theta, sub.q)) listed.push_back(std::move(move));
+  // A jump that flips a joint only tendons see, also about where they are
+  // symmetric (tendonCentred).
+  for (size_t m = 0, n = listed.size(); m < n; ++m)
+    if (std::optional<MinimumMove> centred = tendonCentred(listed[m], est->theta, sub.q, true))
+      listed.push_back(std::move(*centred));
   // Placed back wherever the verdict would flag the motion beyond the limits.
   for (MinimumMove& move : recentreMoves(robot, guesses_, sub.q, flagged))
     listed.push_back(std::move(move));
@@ -588,15 +608,20 @@ std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
   // exact centres (exactMirrorCentres), a flip and its variant over the top
   // can land on the same configuration, listed once.
   std::vector<RowMatrix> listed;
-  for (const MinimumMove& move : minimumMoves(model_.robot(), guesses_, moves_)) {
+  // Returns the move's cost with θ re-fitted in closed form (+inf where it
+  // leaves the limits or repeats a listed move); refined and listed only
+  // where that is below kNearMirror times est's and `must_beat`.
+  const auto tryMove = [&](const MinimumMove& move, double must_beat) {
+    const double skipped = std::numeric_limits<double>::infinity();
     SensorParameters theta = est.theta;
     QState moved = sub;
     moveTo(move, true, sub_, &theta, &moved);
-    if (!withinLimits(guesses_, move, moved.q, lower, upper)) continue;
+    if (!withinLimits(guesses_, move, moved.q, lower, upper)) return skipped;
     if (std::any_of(listed.begin(), listed.end(),
                     [&](const RowMatrix& q) { return sameTurns(q, moved.q); }))
-      continue;
-    if (!(refitCost(&theta, moved) <= kNearMirror * base)) continue;
+      return skipped;
+    const double refit = refitCost(&theta, moved);
+    if (!(refit <= kNearMirror * base && refit < must_beat)) return refit;
     if (refined_base_cost < 0) {
       QState state = sub;
       refined_base_cost = refine(&refined_base, &state);
@@ -606,6 +631,20 @@ std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
       out.push_back({move, std::move(theta)});
       listed.push_back(moved_q);
     }
+    return refit;
+  };
+  for (const MinimumMove& move : minimumMoves(model_.robot(), guesses_, moves_)) {
+    const double refit = tryMove(move, std::numeric_limits<double>::infinity());
+    // A jump of one flip also about where the tendons over its joint are
+    // symmetric: exact for them where the markers' centres are not (a
+    // marker on the flipped link alone, re-fitted, takes any centre). Only
+    // where that fits better in closed form: where the markers set the
+    // centre, it fits worse and is not refined. (Not a chain's several
+    // flips: their centres cost a search each in every one of the hand's
+    // many chain flips, 20% of its calibration, for none exact.)
+    if (move.flip.size() != 1) continue;
+    if (std::optional<MinimumMove> centred = tendonCentred(move, est.theta, sub.q, false))
+      tryMove(*centred, refit);
   }
   if (refitted) *refitted = refined_base_cost < 0 ? base_theta : refined_base;
   return out;

@@ -209,9 +209,10 @@ struct MinimumMove {
   double place = 0.5;
   // Guesses below `recentre` placed in their limits' middle (after `flip`).
   std::vector<int> recentre_below = {};
-  // Where finite, `flip`'s one guess mirrored about it instead (a joint only
-  // tendons see, mirrored where they are symmetric: tendon_mirror.hpp).
-  double flip_centre = std::numeric_limits<double>::quiet_NaN();
+  // Where given (one per flip), each flip about its centre instead, the
+  // half turns of flipped joints absorbed in it (where the tendons spanning
+  // them are symmetric: WideBasin::tendonCentred).
+  std::vector<double> flip_centres = {};
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
@@ -397,10 +398,16 @@ class WideBasin {
   // only tendons see, also with it mirrored about where they are symmetric
   // (tendon_mirror.hpp).
   std::vector<Estimate> signMoved(const Estimate& est, const std::vector<int>& move) const;
-  // For each pot on a joint only tendons see, its sign move about where
-  // they are symmetric at θ and the angles q (rows of the subsample).
-  std::vector<MinimumMove> tendonMirrorMoves(const SensorParameters& theta,
-                                             const RowMatrix& q) const;
+  // `move` with each flip about where the tendons spanning the flipped
+  // joints are least changed by it at θ and angles q (the move's other
+  // turns applied; tendon_mirror.hpp), where some flipped joint is seen
+  // by tendons (with only_tendons: by tendons and no marker); else none.
+  // The markers' exact centres (exactMirrorCentres) miss such a mirror: a
+  // UR wrist's half turn with its last joint mirrored is exact for a
+  // marker on the last link at any centre (the marker re-fitted), for a
+  // tendon over the wrist only at one.
+  std::optional<MinimumMove> tendonCentred(const MinimumMove& move, const SensorParameters& theta,
+                                           const RowMatrix& q, bool only_tendons) const;
   // The estimate from the pots' maps (none: no pot guessed) and q on entry:
   // every step above after the search.
   Estimate estimateFrom(const Candidate* maps, QState state) const;
