@@ -129,10 +129,15 @@ TEST(TreeSearch, OrdersAreDepthAndBreadthFirst) {
     for (int i = 0; i < hand.dof(); ++i) {
       const int c = order[i];
       if (c == a) continue;
-      if (i < k) EXPECT_FALSE(moves(a, c)) << hand.qName(a) << " before " << hand.qName(c);
-      if (i > k) EXPECT_FALSE(moves(c, a)) << hand.qName(c) << " after " << hand.qName(a);
-      if (i > k && i <= k + below)
+      if (i < k) {
+        EXPECT_FALSE(moves(a, c)) << hand.qName(a) << " before " << hand.qName(c);
+      }
+      if (i > k) {
+        EXPECT_FALSE(moves(c, a)) << hand.qName(c) << " after " << hand.qName(a);
+      }
+      if (i > k && i <= k + below) {
         EXPECT_TRUE(moves(a, c)) << hand.qName(a) << "'s limb broken by " << hand.qName(c);
+      }
     }
     int children = 0;
     for (int c = 0; c < hand.dof(); ++c)
