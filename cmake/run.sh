@@ -81,6 +81,9 @@ case "${1:-}" in
     #  - UndeterminedGainVerdict's hand24 and Go1 replays (183 s for the
     #    first under ASan, where it passed once by hand; 15-40 s in Release).
     #    The verdict's check runs in the pass wherever a gain is listed.
+    #  - TendonMirror's UR3 replay (128 s under ASan, 8 s in Release). The
+    #    tendon-centred mirror it lists runs in the pass in the pendulum replay
+    #    and the centre's unit test.
     #  - The gradient checks of the monolithic costs: ASan reports an overflow
     #    inside Eigen's aligned free when the test destroys the results that
     #    libceres's GradientChecker filled. That is an allocation/free mismatch
