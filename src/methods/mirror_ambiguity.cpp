@@ -65,6 +65,17 @@ std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
     UnidentifiableDirection d;
     d.parameters = movedParameters(model.thetaSpace(), refitted, same.theta, std);
     if (d.parameters.empty()) continue;
+    if (move.world_turn) {
+      d.reason = "the readings fit as well with the mocap frame turned half a turn about " +
+                 jointList(model.robot(), guesses, move.half_turn) +
+                 "'s axis and that joint half a turn away (no marker on the base off that "
+                 "axis, and no tendon or limit that tells the two apart), so the parameters "
+                 "listed have two equally good values; hold a marker on the base off that "
+                 "axis, or the mocap frame, at its known position";
+      d.kind = Undetermined::kMirror;
+      out.push_back(std::move(d));
+      continue;
+    }
     std::string what;
     if (!move.half_turn.empty())
       what = jointList(model.robot(), guesses, move.half_turn) + " half a turn away";

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "methods/tendon_mirror.hpp"
+#include "methods/world_turn.hpp"
 #include "methods/tree_search.hpp"
 #include "methods/turn_ambiguity.hpp"
 #include "methods/verdict.hpp"
@@ -469,7 +470,7 @@ int JumpChoice::pick(const std::vector<Scored>& jumps) {
 }
 
 std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
-    Estimate* est, const std::vector<int>& at_limits) const {
+    Estimate* est, const std::vector<int>& at_limits, bool world_turns_only) const {
   QState sub;
   sub.q = subsampleAngles(est->state.q);
   const double base = refinedCost(est->theta, sub, PotSteps::kInverseCharts);
@@ -494,9 +495,15 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
   };
   std::vector<bool> through(model_.dof(), false);
   for (int j : at_limits) through[j] = true;
-  std::vector<MinimumMove> listed = minimumMoves(robot, guesses_, moves_, &through);
-  for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
-  for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
+  std::vector<MinimumMove> listed;
+  if (!world_turns_only) {
+    listed = minimumMoves(robot, guesses_, moves_, &through);
+    for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
+    for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
+  }
+  if (marker_group_free_)
+    for (MinimumMove& move : worldTurnMoves(model_, guesses_, est->theta))
+      listed.push_back(std::move(move));
   // A jump that flips a joint only tendons see, also about where they are
   // symmetric (tendonCentred).
   for (size_t m = 0, n = listed.size(); m < n; ++m)
@@ -554,7 +561,7 @@ void WideBasin::moveTo(const MinimumMove& move, bool mirror_about_zero, const Ob
     qPhase(model_, *theta, noise_, loss_, obs, markers, ws_, state);
   }
   applyMove(model_.robot(), guesses_, move, theta, &state->q, mirror_about_zero);
-  if (move.flip_about_zero && marker_group_free_)
+  if ((move.flip_about_zero || move.world_turn) && marker_group_free_)
     initialiseMarkerGroup(model_, obs, *state, 3, threads_, ws_, theta);
   if (!move.wrap.empty() || !move.recentre.empty()) {
     ThetaPhaseOptions to;
@@ -646,6 +653,11 @@ std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
     if (std::optional<MinimumMove> centred = tendonCentred(move, est.theta, sub.q, false))
       tryMove(*centred, refit);
   }
+  // The world's half turns with a limb's first joint: exact for the
+  // markers, told apart (if at all) by the tendons and the limits alone.
+  if (marker_group_free_)
+    for (const MinimumMove& move : worldTurnMoves(model_, guesses_, est.theta))
+      tryMove(move, std::numeric_limits<double>::infinity());
   if (refitted) *refitted = refined_base_cost < 0 ? base_theta : refined_base;
   return out;
 }

@@ -213,6 +213,9 @@ struct MinimumMove {
   // half turns of flipped joints absorbed in it (where the tendons spanning
   // them are symmetric: WideBasin::tendonCentred).
   std::vector<double> flip_centres = {};
+  // The mocap frame re-fitted in closed form to the moved motion, as a
+  // flip about zero has it (world_turn.hpp: the world's half turn).
+  bool world_turn = false;
 };
 // The jumps a converged calibration is checked against: each sign move
 // (signMoves); each joint half a turn; each joint half a turn with the
@@ -432,8 +435,11 @@ class WideBasin {
   // its seed σ says would pay for them in every run), nor through every
   // joint where one is at its limits (humanoid38 from a free seed: the
   // gauge joints at their limits, 257 moves and 70 s a round).
+  // With `world_turns_only`, only the world's half turns with a limb's
+  // first joint (world_turn.hpp), which no misfit may show.
   std::optional<MinimumMove> jumpToBetterMinimum(Estimate* est,
-                                                 const std::vector<int>& at_limits = {}) const;
+                                                 const std::vector<int>& at_limits = {},
+                                                 bool world_turns_only = false) const;
   // The jumps of minimumMoves from est that keep every angle within the
   // q-phase's limits and fit the subsample as well as est (cost within
   // kSameFit) once refined, angles and θ (refine): other configurations

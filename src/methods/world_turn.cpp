@@ -1,0 +1,76 @@
+// The world's half turn with a limb's first joint (see world_turn.hpp).
+#include "methods/world_turn.hpp"
+
+#include <algorithm>
+
+#include "stac/kinematics.hpp"
+
+namespace stac {
+namespace {
+
+// A marker or a limb's root this far off the axis pins the turn: the
+// tree-order search's line tolerance (tree_search.cpp), a marker's noise.
+constexpr double kOffAxis = 0.01;
+// Axes this parallel (|a × b|) are one line where their points are.
+constexpr double kParallel = 1e-6;
+
+double offLine(const Eigen::Vector3d& x, const Eigen::Vector3d& p, const Eigen::Vector3d& d) {
+  const Eigen::Vector3d v = x - p;
+  return (v - v.dot(d) * d).norm();
+}
+
+}  // namespace
+
+std::vector<int> worldTurnColumns(const MeasurementModel& model, const SensorParameters& theta) {
+  const RobotModel& robot = model.robot();
+  const SensorSet& sensors = model.sensors();
+  std::vector<int> out;
+  if (sensors.mocap_frame_fixed.any()) return out;
+  // A limb's first joint turns about a line fixed in the base: its axis
+  // at any pose is its axis at zero.
+  KinematicsWorkspace ws(robot);
+  forwardKinematics(robot, Eigen::VectorXd::Zero(robot.dof()), &ws);
+  std::vector<Eigen::Vector3d> base;  // the base's markers, in its frame
+  for (size_t m = 0; m < sensors.markers.size(); ++m)
+    if (robot.supportingJoints(sensors.markers[m].link).empty())
+      base.push_back(ws.link_pose[sensors.markers[m].link] * theta.marker_position[m]);
+  std::vector<int> roots;  // movable joints with nothing above them
+  for (int j = 0; j < robot.dof(); ++j) {
+    const int mj = robot.qJoints()[j];
+    if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() == 1)
+      roots.push_back(j);
+  }
+  for (int j : roots) {
+    const int mj = robot.qJoints()[j];
+    const Eigen::Vector3d p = ws.joint_origin[mj];
+    const Eigen::Vector3d d = ws.joint_axis[mj].normalized();
+    const auto pins = [&](const Eigen::Vector3d& x) { return offLine(x, p, d) >= kOffAxis; };
+    const auto otherLimb = [&](int k) {
+      const int mk = robot.qJoints()[k];
+      return k != j && (ws.joint_axis[mk].normalized().cross(d).norm() > kParallel ||
+                        pins(ws.joint_origin[mk]));
+    };
+    if (std::none_of(base.begin(), base.end(), pins) &&
+        std::none_of(roots.begin(), roots.end(), otherLimb))
+      out.push_back(j);
+  }
+  return out;
+}
+
+std::vector<MinimumMove> worldTurnMoves(const MeasurementModel& model,
+                                        const std::vector<PotGuess>& guesses,
+                                        const SensorParameters& theta) {
+  const std::vector<int> columns = worldTurnColumns(model, theta);
+  std::vector<MinimumMove> moves;
+  for (int i = 0; i < static_cast<int>(guesses.size()); ++i)
+    if (!guesses[i].bias_held &&
+        std::find(columns.begin(), columns.end(), guesses[i].column) != columns.end())
+    {
+      MinimumMove move{{}, {i}, {}};
+      move.world_turn = true;
+      moves.push_back(std::move(move));
+    }
+  return moves;
+}
+
+}  // namespace stac

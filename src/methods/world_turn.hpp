@@ -1,0 +1,36 @@
+// The world's half turn with a limb's first joint (internal; jumps of
+// WideBasin::jumpToBetterMinimum, wide_basin.hpp).
+//
+// Turn the mocap frame half a turn about a limb's first joint's axis and
+// that joint half a turn back: every link below the joint stays where it
+// was. Where no base marker sits off that axis and every other limb is
+// rooted on it, the markers then read exactly as before; only the tendons
+// from the base across the joint (and the joint's limits) tell the two
+// apart. A start can land on the wrong one of the pair, and the plain half
+// turn of the joint, with the frame kept, refines far off: an unseen Bravo 7
+// on a BlueVolta ROV, no marker on the ROV, its first joint continuous,
+// random sensor layouts 5 and 6 (40 truths each): 7 converged there, one
+// flagged and 6 with verdict ok, a tendon at 1.35-2x its σ (which the
+// adapted σ absorbed, 0.1% of the cost).
+#pragma once
+
+#include <vector>
+
+#include "methods/wide_basin.hpp"
+#include "stac/measurement.hpp"
+
+namespace stac {
+
+// The q columns of the limbs' first joints (no joint above them) about
+// whose axes the world's half turn leaves every marker where it was (θ's
+// marker positions on the base); none where part of the mocap frame is
+// held.
+std::vector<int> worldTurnColumns(const MeasurementModel& model, const SensorParameters& theta);
+
+// Each guess on such a column, half a turn with the mocap frame re-fitted
+// in closed form to the turned motion (MinimumMove::world_turn).
+std::vector<MinimumMove> worldTurnMoves(const MeasurementModel& model,
+                                        const std::vector<PotGuess>& guesses,
+                                        const SensorParameters& theta);
+
+}  // namespace stac
