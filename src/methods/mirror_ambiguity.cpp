@@ -41,6 +41,27 @@ std::vector<std::string> movedParameters(const ThetaSpace& space, const SensorPa
   return out;
 }
 
+// The sentence that explains an equivalent move and what pins it.
+std::string mirrorReason(const RobotModel& robot, const std::vector<PotGuess>& guesses,
+                         const MinimumMove& move) {
+  if (move.world_turn)
+    return "the readings fit as well with the mocap frame turned half a turn about " +
+           jointList(robot, guesses, move.half_turn) +
+           "'s axis and that joint half a turn away (no marker on the base off that axis, and "
+           "no tendon or limit that tells the two apart), so the parameters listed have two "
+           "equally good values; hold a marker on the base off that axis, or the mocap frame, "
+           "at its known position";
+  std::string what;
+  if (!move.half_turn.empty())
+    what = jointList(robot, guesses, move.half_turn) + " half a turn away";
+  if (!move.flip.empty())
+    what += (what.empty() ? "" : " with ") + jointList(robot, guesses, move.flip) + " mirrored";
+  return "the readings fit as well with " + what +
+         " (a mirror configuration: the markers on the links in between move with them), so "
+         "the parameters listed have two equally good values; hold a marker on one of those "
+         "links at its known position, or log poses near the joints' limits";
+}
+
 }  // namespace
 
 std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
@@ -65,28 +86,7 @@ std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
     UnidentifiableDirection d;
     d.parameters = movedParameters(model.thetaSpace(), refitted, same.theta, std);
     if (d.parameters.empty()) continue;
-    if (move.world_turn) {
-      d.reason = "the readings fit as well with the mocap frame turned half a turn about " +
-                 jointList(model.robot(), guesses, move.half_turn) +
-                 "'s axis and that joint half a turn away (no marker on the base off that "
-                 "axis, and no tendon or limit that tells the two apart), so the parameters "
-                 "listed have two equally good values; hold a marker on the base off that "
-                 "axis, or the mocap frame, at its known position";
-      d.kind = Undetermined::kMirror;
-      out.push_back(std::move(d));
-      continue;
-    }
-    std::string what;
-    if (!move.half_turn.empty())
-      what = jointList(model.robot(), guesses, move.half_turn) + " half a turn away";
-    if (!move.flip.empty())
-      what += (what.empty() ? "" : " with ") + jointList(model.robot(), guesses, move.flip) +
-              " mirrored";
-    d.reason = "the readings fit as well with " + what +
-               " (a mirror configuration: the markers on the links in between move with them), "
-               "so the parameters listed have two equally good values; hold a "
-               "marker on one of those links at its known position, or log poses near the "
-               "joints' limits";
+    d.reason = mirrorReason(model.robot(), guesses, move);
     d.kind = Undetermined::kMirror;
     out.push_back(std::move(d));
   }

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "methods/regression.hpp"
+#include "methods/world_turn.hpp"
 #include "stac/kinematics.hpp"
 #include "solve/theta_phase.hpp"
 
@@ -267,10 +268,7 @@ std::optional<TurnLine> openHalfTurn(const MeasurementModel& model,
   if (sensors.mocap_frame_fixed.any()) return std::nullopt;
   KinematicsWorkspace ws(robot);
   forwardKinematics(robot, Eigen::VectorXd::Zero(robot.dof()), &ws);
-  std::vector<Eigen::Vector3d> base;  // the base's markers, in its frame
-  for (size_t m = 0; m < sensors.markers.size(); ++m)
-    if (robot.supportingJoints(sensors.markers[m].link).empty())
-      base.push_back(ws.link_pose[sensors.markers[m].link] * seed.marker_position[m]);
+  const std::vector<Eigen::Vector3d> base = baseMarkerPoints(model, seed, ws);
   if (base.empty()) return std::nullopt;
   // The line: through two base markers far apart, else through the one and
   // the limbs' roots' middle.
@@ -279,11 +277,7 @@ std::optional<TurnLine> openHalfTurn(const MeasurementModel& model,
   for (const Eigen::Vector3d& b : base)
     if ((b - p).norm() > d.norm()) d = b - p;
   std::vector<Eigen::Vector3d> roots;  // the limbs' first joints
-  for (int j = 0; j < robot.dof(); ++j) {
-    const int mj = robot.qJoints()[j];
-    if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() == 1)
-      roots.push_back(ws.joint_origin[mj]);
-  }
+  for (int j : limbRoots(robot)) roots.push_back(ws.joint_origin[robot.qJoints()[j]]);
   if (d.norm() < kLineSpan) {
     if (roots.empty()) return std::nullopt;
     Eigen::Vector3d middle = Eigen::Vector3d::Zero();

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 
-#include "stac/kinematics.hpp"
 
 namespace stac {
 namespace {
@@ -21,25 +20,38 @@ double offLine(const Eigen::Vector3d& x, const Eigen::Vector3d& p, const Eigen::
 
 }  // namespace
 
-std::vector<int> worldTurnColumns(const MeasurementModel& model, const SensorParameters& theta) {
+std::vector<Eigen::Vector3d> baseMarkerPoints(const MeasurementModel& model,
+                                              const SensorParameters& theta,
+                                              const KinematicsWorkspace& ws) {
   const RobotModel& robot = model.robot();
   const SensorSet& sensors = model.sensors();
+  std::vector<Eigen::Vector3d> out;
+  for (size_t m = 0; m < sensors.markers.size(); ++m)
+    if (robot.supportingJoints(sensors.markers[m].link).empty())
+      out.push_back(ws.link_pose[sensors.markers[m].link] * theta.marker_position[m]);
+  return out;
+}
+
+std::vector<int> limbRoots(const RobotModel& robot) {
   std::vector<int> out;
-  if (sensors.mocap_frame_fixed.any()) return out;
+  for (int j = 0; j < robot.dof(); ++j) {
+    const int mj = robot.qJoints()[j];
+    if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() == 1)
+      out.push_back(j);
+  }
+  return out;
+}
+
+std::vector<int> worldTurnColumns(const MeasurementModel& model, const SensorParameters& theta) {
+  const RobotModel& robot = model.robot();
+  std::vector<int> out;
+  if (model.sensors().mocap_frame_fixed.any()) return out;
   // A limb's first joint turns about a line fixed in the base: its axis
   // at any pose is its axis at zero.
   KinematicsWorkspace ws(robot);
   forwardKinematics(robot, Eigen::VectorXd::Zero(robot.dof()), &ws);
-  std::vector<Eigen::Vector3d> base;  // the base's markers, in its frame
-  for (size_t m = 0; m < sensors.markers.size(); ++m)
-    if (robot.supportingJoints(sensors.markers[m].link).empty())
-      base.push_back(ws.link_pose[sensors.markers[m].link] * theta.marker_position[m]);
-  std::vector<int> roots;  // movable joints with nothing above them
-  for (int j = 0; j < robot.dof(); ++j) {
-    const int mj = robot.qJoints()[j];
-    if (robot.supportingJoints(robot.movableJoints()[mj].child_link).size() == 1)
-      roots.push_back(j);
-  }
+  const std::vector<Eigen::Vector3d> base = baseMarkerPoints(model, theta, ws);
+  const std::vector<int> roots = limbRoots(robot);
   for (int j : roots) {
     const int mj = robot.qJoints()[j];
     const Eigen::Vector3d p = ws.joint_origin[mj];

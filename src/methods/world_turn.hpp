@@ -17,11 +17,20 @@
 #include <vector>
 
 #include "methods/wide_basin.hpp"
+#include "stac/kinematics.hpp"
 #include "stac/measurement.hpp"
 
 namespace stac {
 
-// The q columns of the limbs' first joints (no joint above them) about
+// The base's markers (on links no joint moves), in the base's frame, at
+// θ's positions; `ws` holds forward kinematics at any pose.
+std::vector<Eigen::Vector3d> baseMarkerPoints(const MeasurementModel& model,
+                                              const SensorParameters& theta,
+                                              const KinematicsWorkspace& ws);
+// The q columns of the limbs' first joints (no joint above them).
+std::vector<int> limbRoots(const RobotModel& robot);
+
+// The q columns of the limbs' first joints about
 // whose axes the world's half turn leaves every marker where it was (θ's
 // marker positions on the base); none where part of the mocap frame is
 // held.
