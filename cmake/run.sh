@@ -84,8 +84,11 @@ case "${1:-}" in
     #  - TendonMirror's UR3 replay (128 s under ASan, 8 s in Release). The
     #    tendon-centred mirror it lists runs in the pass in the pendulum replay
     #    and the centre's unit test.
-    #  - WorldTurn's three BlueVolta calibrations (15 s in Release). The
-    #    columns' unit test stays in the pass.
+    #  - WorldTurn's two BlueVolta replays (15 s in Release). The columns'
+    #    unit test stays in the pass.
+    #  - ExperimentSmoke's paper tables and Fig. 6 (152 s and 77 s under
+    #    ASan; the pass took 749 s with them, CI about 2550 s of its 2700):
+    #    the paper's experiments, whose calibrations the pass runs elsewhere.
     #  - The gradient checks of the monolithic costs: ASan reports an overflow
     #    inside Eigen's aligned free when the test destroys the results that
     #    libceres's GradientChecker filled. That is an allocation/free mismatch
