@@ -31,11 +31,6 @@ constexpr double kStartScales[] = {1.0, 0.5, 0.25};
 constexpr int kStartIterations = 15;
 constexpr int kSearchFrames = 80;
 constexpr int kMinFrames = 20;
-// Points closer than this (m) to a line lie on it: a base marker a
-// centimetre off the line moves by two under the half turn, ten times a
-// marker's typical noise, and so pins the turn.
-constexpr double kLineSpan = 0.01;
-
 // One stage: the guesses whose maps it searches, and the markers in its fit.
 struct Stage {
   std::vector<int> guesses;
@@ -287,7 +282,7 @@ std::optional<TurnLine> openHalfTurn(const MeasurementModel& model,
   }
   d.normalize();
   const auto offLine = [&](const Eigen::Vector3d& x) {
-    return ((x - p) - (x - p).dot(d) * d).norm() >= kLineSpan;
+    return distanceFromLine(x, p, d) >= kLineSpan;
   };
   // Three base markers off the line pin the turn; so do limbs rooted off
   // it (a quadruped's hips about one base marker: turned, the legs land

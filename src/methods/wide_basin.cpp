@@ -500,18 +500,18 @@ std::optional<MinimumMove> WideBasin::jumpToBetterMinimum(
     listed = minimumMoves(robot, guesses_, moves_, &through);
     for (MinimumMove& move : wholeTurnMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
     for (MinimumMove& move : wrapMoves(robot, guesses_, sub.q)) listed.push_back(std::move(move));
+    // A jump that flips a joint only tendons see, also about where they are
+    // symmetric (tendonCentred).
+    for (size_t m = 0, n = listed.size(); m < n; ++m)
+      if (std::optional<MinimumMove> centred = tendonCentred(listed[m], est->theta, sub.q, true))
+        listed.push_back(std::move(*centred));
+    // Placed back wherever the verdict would flag the motion beyond the limits.
+    for (MinimumMove& move : recentreMoves(robot, guesses_, sub.q, flagged))
+      listed.push_back(std::move(move));
   }
   if (marker_group_free_)
     for (MinimumMove& move : worldTurnMoves(model_, guesses_, est->theta))
       listed.push_back(std::move(move));
-  // A jump that flips a joint only tendons see, also about where they are
-  // symmetric (tendonCentred).
-  for (size_t m = 0, n = listed.size(); m < n; ++m)
-    if (std::optional<MinimumMove> centred = tendonCentred(listed[m], est->theta, sub.q, true))
-      listed.push_back(std::move(*centred));
-  // Placed back wherever the verdict would flag the motion beyond the limits.
-  for (MinimumMove& move : recentreMoves(robot, guesses_, sub.q, flagged))
-    listed.push_back(std::move(move));
   std::vector<double> cost(listed.size());
   for (size_t m = 0; m < listed.size(); ++m) cost[m] = consider(listed[m]);
   // A wrist or shoulder flip is exact about the mirrored joints' zeros (or

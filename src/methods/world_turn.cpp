@@ -3,22 +3,17 @@
 
 #include <algorithm>
 
-
 namespace stac {
 namespace {
-
-// A marker or a limb's root this far off the axis pins the turn: the
-// tree-order search's line tolerance (tree_search.cpp), a marker's noise.
-constexpr double kOffAxis = 0.01;
 // Axes this parallel (|a × b|) are one line where their points are.
 constexpr double kParallel = 1e-6;
+}  // namespace
 
-double offLine(const Eigen::Vector3d& x, const Eigen::Vector3d& p, const Eigen::Vector3d& d) {
+double distanceFromLine(const Eigen::Vector3d& x, const Eigen::Vector3d& p,
+                        const Eigen::Vector3d& d) {
   const Eigen::Vector3d v = x - p;
   return (v - v.dot(d) * d).norm();
 }
-
-}  // namespace
 
 std::vector<Eigen::Vector3d> baseMarkerPoints(const MeasurementModel& model,
                                               const SensorParameters& theta,
@@ -56,7 +51,9 @@ std::vector<int> worldTurnColumns(const MeasurementModel& model, const SensorPar
     const int mj = robot.qJoints()[j];
     const Eigen::Vector3d p = ws.joint_origin[mj];
     const Eigen::Vector3d d = ws.joint_axis[mj].normalized();
-    const auto pins = [&](const Eigen::Vector3d& x) { return offLine(x, p, d) >= kOffAxis; };
+    const auto pins = [&](const Eigen::Vector3d& x) {
+      return distanceFromLine(x, p, d) >= kLineSpan;
+    };
     const auto otherLimb = [&](int k) {
       const int mk = robot.qJoints()[k];
       return k != j && (ws.joint_axis[mk].normalized().cross(d).norm() > kParallel ||
@@ -76,8 +73,7 @@ std::vector<MinimumMove> worldTurnMoves(const MeasurementModel& model,
   std::vector<MinimumMove> moves;
   for (int i = 0; i < static_cast<int>(guesses.size()); ++i)
     if (!guesses[i].bias_held &&
-        std::find(columns.begin(), columns.end(), guesses[i].column) != columns.end())
-    {
+        std::find(columns.begin(), columns.end(), guesses[i].column) != columns.end()) {
       MinimumMove move{{}, {i}, {}};
       move.world_turn = true;
       moves.push_back(std::move(move));

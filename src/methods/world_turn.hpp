@@ -1,5 +1,7 @@
 // The world's half turn with a limb's first joint (internal; jumps of
-// WideBasin::jumpToBetterMinimum, wide_basin.hpp).
+// WideBasin::jumpToBetterMinimum and its mirror listing, wide_basin.hpp),
+// and the base geometry it shares with the tree-order search's open half
+// turn (tree_search.hpp): the base's markers, the limbs' roots, lines.
 //
 // Turn the mocap frame half a turn about a limb's first joint's axis and
 // that joint half a turn back: every link below the joint stays where it
@@ -21,6 +23,15 @@
 #include "stac/measurement.hpp"
 
 namespace stac {
+
+// Points closer than this (m) to a line lie on it: a base marker a
+// centimetre off the line moves by two under the half turn about it, ten
+// times a marker's typical noise, and so pins the turn (the tree-order
+// search's open half turn, tree_search.cpp, and worldTurnColumns).
+constexpr double kLineSpan = 0.01;
+// The distance of x from the line through p with unit direction d.
+double distanceFromLine(const Eigen::Vector3d& x, const Eigen::Vector3d& p,
+                        const Eigen::Vector3d& d);
 
 // The base's markers (on links no joint moves), in the base's frame, at
 // θ's positions; `ws` holds forward kinematics at any pose.
