@@ -409,6 +409,26 @@ bool misfitsForRestart(const Problem& problem, const State& s,
                            factor, factor);
 }
 
+// The alternation on from a jump's estimate `est` (*s the state before
+// it), kept as goOnIfBetter says.
+std::optional<LoopOutcome> goOnFromJump(const MethodInput& in, const LoopOutcome& loop,
+                                        Estimate est, State* s, Workspaces* ws,
+                                        const std::function<void(int, const PassStats&)>& report) {
+  State before = *s;
+  s->theta = std::move(est.theta);
+  s->q = std::move(est.state);
+  // One alternation (q, then θ) on the whole log before the coupled steps
+  // go on: the start the jump was scored from (WideBasin::refinedCost).
+  // Left as moved, with the markers between the moved joints where they
+  // were, a first coupled step took panda/partial basin truth 6 to a cost
+  // of 8e7 and its wrist a whole turn beyond the limits in every frame;
+  // θ re-fitted to the moved angles alone (markers re-placed in the moved
+  // links first) took humanoid38/partial basin truth 13's ankle flip to
+  // another folded minimum, unconverged after 200 iterations.
+  alternatingIteration(in.problem, in.options, s, ws);
+  return goOnIfBetter(in, loop, std::move(before), s, ws, report);
+}
+
 // Where the base's markers leave the world's half turn open (openHalfTurn:
 // one base marker or several on a line, every limb rooted on it), a run can
 // converge with the world turned and the limb mirrored with it, a minimum
@@ -499,19 +519,7 @@ bool jumpRounds(const MethodInput& in, bool limits_only, LoopOutcome* loop, Stat
                             ws, s->theta, in.options.stac.coupled_steps);
       if (!basin.jumpToBetterMinimum(&est, at_limits, quiet)) break;
     }
-    State before = *s;
-    s->theta = std::move(est.theta);
-    s->q = std::move(est.state);
-    // One alternation (q, then θ) on the whole log before the coupled steps
-    // go on: the start the jump was scored from (WideBasin::refinedCost).
-    // Left as moved, with the markers between the moved joints where they
-    // were, a first coupled step took panda/partial basin truth 6 to a cost
-    // of 8e7 and its wrist a whole turn beyond the limits in every frame;
-    // θ re-fitted to the moved angles alone (markers re-placed in the moved
-    // links first) took humanoid38/partial basin truth 13's ankle flip to
-    // another folded minimum, unconverged after 200 iterations.
-    alternatingIteration(problem, in.options, s, ws);
-    std::optional<LoopOutcome> again = goOnIfBetter(in, *loop, std::move(before), s, ws, report);
+    std::optional<LoopOutcome> again = goOnFromJump(in, *loop, std::move(est), s, ws, report);
     if (!again) break;
     *loop = std::move(*again);
     misfit = jumped = true;  // misfit: not checked since the jump
@@ -538,6 +546,27 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
     jumpRounds(in, true, &loop, s, ws, report);
   }
   return loop;
+}
+
+// Of the configurations the result will list as fitting as well (the
+// mirrors, mirror_ambiguity.hpp), the one that fits better is taken
+// (WideBasin::jumpToBetterEquivalent), once, and kept as goOnIfBetter
+// says: of two minima the data hardly tell apart, the likelier one is
+// reported, the other listed. The jumps (above) take none of them: they
+// are within kSameFit, and where nothing misfits no jump is tried.
+LoopOutcome takeBetterEquivalent(const MethodInput& in, LoopOutcome loop, State* s,
+                                 Workspaces* ws,
+                                 const std::function<void(int, const PassStats&)>& report) {
+  const Problem& problem = in.problem;
+  if (!openToJumps(in, loop)) return loop;
+  Estimate est{s->theta, s->q};
+  {
+    const WideBasin basin(problem.model, problem.obs, s->noise, problem.loss, problem.threads, ws,
+                          s->theta, in.options.stac.coupled_steps);
+    if (!basin.jumpToBetterEquivalent(&est)) return loop;
+  }
+  std::optional<LoopOutcome> again = goOnFromJump(in, loop, std::move(est), s, ws, report);
+  return again ? std::move(*again) : loop;
 }
 
 // A pot's map p = g q + b can change its sign only through g = ∞, its
@@ -691,6 +720,7 @@ Outcome stacRun(const MethodInput& in, bool* set_aside) {
   if (loop.paused)
     loop = goOn(problem, in, loop.iterations, loop.limit - loop.iterations, loop.st, &s, &ws,
                 report);
+  loop = takeBetterEquivalent(in, std::move(loop), &s, &ws, report);
   Observations kept;
   const Problem fitted = setGrossReadingsAside(in, &loop, &s, &ws, report, &kept);
   Outcome out = finishRun(fitted, &start, loop.st, &ws);

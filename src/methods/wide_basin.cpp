@@ -593,7 +593,7 @@ bool sameTurns(const RowMatrix& a, const RowMatrix& b) {
 }  // namespace
 
 std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
-    const Estimate& est, SensorParameters* refitted) const {
+    const Estimate& est, SensorParameters* refitted, double* refitted_cost) const {
   Eigen::VectorXd lower, upper;
   widenedLimits(model_.robot(), &lower, &upper);
   ThetaPhaseOptions to;
@@ -634,8 +634,9 @@ std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
       refined_base_cost = refine(&refined_base, &state);
     }
     const RowMatrix moved_q = moved.q;
-    if (refine(&theta, &moved) <= (1 + kSameFit) * refined_base_cost) {
-      out.push_back({move, std::move(theta)});
+    const double refined = refine(&theta, &moved);
+    if (refined <= (1 + kSameFit) * refined_base_cost) {
+      out.push_back({move, std::move(theta), refined});
       listed.push_back(moved_q);
     }
     return refit;
@@ -659,7 +660,20 @@ std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
     for (const MinimumMove& move : worldTurnMoves(model_, guesses_, est.theta))
       tryMove(move, std::numeric_limits<double>::infinity());
   if (refitted) *refitted = refined_base_cost < 0 ? base_theta : refined_base;
+  if (refitted_cost) *refitted_cost = refined_base_cost < 0 ? base : refined_base_cost;
   return out;
+}
+
+std::optional<MinimumMove> WideBasin::jumpToBetterEquivalent(Estimate* est) const {
+  double base = 0;
+  const std::vector<EquivalentMove> same = equivalentMoves(*est, nullptr, &base);
+  const EquivalentMove* best = nullptr;
+  for (const EquivalentMove& m : same)
+    if (m.cost < (1 - kBetterEquivalent) * base && (!best || m.cost < best->cost)) best = &m;
+  if (!best) return std::nullopt;
+  // About the kinematics' exact centres, as the listing moved it.
+  moveTo(best->move, true, obs_, &est->theta, &est->state);
+  return best->move;
 }
 
 // The pots' maps adopted, the marker group in closed form, then the

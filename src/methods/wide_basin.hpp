@@ -42,6 +42,12 @@ constexpr double kNearMirror = 2.0;
 // jump and keeps its end only if it fits better, so a false jump costs
 // time, not accuracy).
 constexpr double kBetterMinimum = 1.0 - kSameFit;
+// An equivalent move (WideBasin::equivalentMoves) is taken where, refined,
+// it fits below the estimate's refined cost by more than this share: above
+// the refinements' rounding, far below kSameFit (an unseen planar double
+// pendulum on partial swings ended with joint 2 mirrored, the mirror listed
+// undetermined while the truth it led to fitted 0.09% better).
+constexpr double kBetterEquivalent = 1e-5;
 // Jumps whose refined costs lie within this share of the lowest reached
 // one minimum by different paths (a few coupled steps from each leave them
 // up to 6e-7 apart), and the one whose start fits clearly best is taken:
@@ -448,13 +454,23 @@ class WideBasin {
   // are refined: an exact mirror fits as well at once, one made inexact by
   // a small offset in the chain only once its angles follow. Each with its
   // refined θ; `refitted` (if given) gets est's own θ refined on the same
-  // subsample, what the moved θ are to be compared with.
+  // subsample, what the moved θ are to be compared with, and
+  // `refitted_cost` its cost there.
   struct EquivalentMove {
     MinimumMove move;
     SensorParameters theta;
+    double cost;  // refined, on the subsample
   };
   std::vector<EquivalentMove> equivalentMoves(const Estimate& est,
-                                              SensorParameters* refitted = nullptr) const;
+                                              SensorParameters* refitted = nullptr,
+                                              double* refitted_cost = nullptr) const;
+  // Of the equivalent moves, the one that fits the subsample best once
+  // refined, if that is below est's own refined cost by more than
+  // kBetterEquivalent, applied to est on the whole log; none otherwise.
+  // Two such minima are as likely within the data's resolution, but a
+  // converged run takes no jump that fits within kSameFit of it, so it can
+  // end in the one that fits worse while the listing reports the other.
+  std::optional<MinimumMove> jumpToBetterEquivalent(Estimate* est) const;
 
  private:
   // How refinedCost's coupled steps move the pots' maps. The escape's
