@@ -554,18 +554,26 @@ LoopOutcome escapeWrongMinimum(const MethodInput& in, LoopOutcome loop, State* s
 // says: of two minima the data hardly tell apart, the likelier one is
 // reported, the other listed. The jumps (above) take none of them: they
 // are within kSameFit, and where nothing misfits no jump is tried.
+// Where none is taken, `mirrors` gets the candidates found at *s, which
+// the result lists (finding them again cost the bundled hand 15% of its
+// calibration).
 LoopOutcome takeBetterEquivalent(const MethodInput& in, LoopOutcome loop, State* s,
                                  Workspaces* ws,
-                                 const std::function<void(int, const PassStats&)>& report) {
+                                 const std::function<void(int, const PassStats&)>& report,
+                                 std::optional<MirrorCandidates>* mirrors) {
   const Problem& problem = in.problem;
-  if (!openToJumps(in, loop)) return loop;
-  Estimate est{s->theta, s->q};
+  if (!openToJumps(in, loop) || !mirrorsApply(problem.model, s->q.q)) return loop;
+  Estimate est{s->theta, s->q}, better;
+  bool moved = false;
   {
+    // As the result's listing builds it (mirrorAmbiguities).
     const WideBasin basin(problem.model, problem.obs, s->noise, problem.loss, problem.threads, ws,
-                          s->theta, in.options.stac.coupled_steps);
-    if (!basin.jumpToBetterEquivalent(&est)) return loop;
+                          s->theta, false);
+    *mirrors = mirrorCandidates(basin, est, &better, &moved);
   }
-  std::optional<LoopOutcome> again = goOnFromJump(in, loop, std::move(est), s, ws, report);
+  if (!moved) return loop;
+  mirrors->reset();  // found at the state left
+  std::optional<LoopOutcome> again = goOnFromJump(in, loop, std::move(better), s, ws, report);
   return again ? std::move(*again) : loop;
 }
 
@@ -720,10 +728,13 @@ Outcome stacRun(const MethodInput& in, bool* set_aside) {
   if (loop.paused)
     loop = goOn(problem, in, loop.iterations, loop.limit - loop.iterations, loop.st, &s, &ws,
                 report);
-  loop = takeBetterEquivalent(in, std::move(loop), &s, &ws, report);
+  std::optional<MirrorCandidates> mirrors;
+  loop = takeBetterEquivalent(in, std::move(loop), &s, &ws, report, &mirrors);
   Observations kept;
   const Problem fitted = setGrossReadingsAside(in, &loop, &s, &ws, report, &kept);
   Outcome out = finishRun(fitted, &start, loop.st, &ws);
+  // Found at the end's state unless readings were set aside since.
+  if (&fitted.obs == &problem.obs) out.mirrors = std::move(mirrors);
   out.iterations = loop.iterations;
   out.converged = loop.converged || (loop.iterations >= loop.limit &&
                                      settled(out.uncertainty.decrement, loop.scale_change));

@@ -6,9 +6,11 @@
 #pragma once
 
 #include <chrono>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "methods/mirror_ambiguity.hpp"
 #include "solve/problem.hpp"
 #include "solve/uncertainty.hpp"
 #include "stac/calibrate.hpp"
@@ -36,6 +38,10 @@ struct Outcome {
   // A run that converged only after a crawl, still misfitting: the
   // verdict reason (alternation.cpp slowConvergence); else empty.
   std::string slow_convergence;
+  // The mirrors' candidates, where the run found them at theta and q on
+  // the whole log with the final σ (alternation.cpp takeBetterEquivalent);
+  // else makeResult finds them.
+  std::optional<MirrorCandidates> mirrors;
 };
 
 using Clock = std::chrono::steady_clock;

@@ -64,33 +64,54 @@ std::string mirrorReason(const RobotModel& robot, const std::vector<PotGuess>& g
 
 }  // namespace
 
+bool mirrorsApply(const MeasurementModel& model, const RowMatrix& q) {
+  return q.rows() > 0 && q.allFinite() && !model.sensors().joint_sensors.empty();
+}
+
+MirrorCandidates mirrorCandidates(const WideBasin& basin, const Estimate& est, Estimate* better,
+                                  bool* moved) {
+  MirrorCandidates out;
+  std::vector<WideBasin::EquivalentMove> same;
+  if (better) {
+    *better = est;
+    *moved = basin.jumpToBetterEquivalent(better, &same, &out.refitted).has_value();
+  } else {
+    same = basin.equivalentMoves(est, &out.refitted);
+  }
+  for (WideBasin::EquivalentMove& m : same)
+    out.moves.emplace_back(mirrorReason(basin.robot(), basin.guesses(), m.move), std::move(m.theta));
+  return out;
+}
+
+std::vector<UnidentifiableDirection> mirrorListing(const ThetaSpace& space,
+                                                   const MirrorCandidates& candidates,
+                                                   const Eigen::VectorXd& std) {
+  std::vector<UnidentifiableDirection> out;
+  if (std.size() != space.size()) return out;
+  for (const auto& [reason, theta] : candidates.moves) {
+    UnidentifiableDirection d;
+    d.parameters = movedParameters(space, candidates.refitted, theta, std);
+    if (d.parameters.empty()) continue;
+    d.reason = reason;
+    d.kind = Undetermined::kMirror;
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
 std::vector<UnidentifiableDirection> mirrorAmbiguities(const Problem& problem,
                                                        const Observations& obs,
                                                        const SensorParameters& theta,
                                                        const NoiseModel& noise, const RowMatrix& q,
                                                        const Eigen::VectorXd& std) {
-  std::vector<UnidentifiableDirection> out;
   const MeasurementModel& model = problem.model;
-  if (q.rows() == 0 || !q.allFinite() || model.sensors().joint_sensors.empty() ||
-      std.size() != model.thetaSpace().size())
-    return out;
+  if (!mirrorsApply(model, q) || std.size() != model.thetaSpace().size()) return {};
   Workspaces ws = makeWorkspaces(model, problem.threads);
   const WideBasin basin(model, obs, noise, problem.loss, problem.threads, &ws, theta, false);
   Estimate est;
   est.theta = theta;
   est.state.q = q;
-  const std::vector<PotGuess>& guesses = basin.guesses();
-  SensorParameters refitted;
-  for (const WideBasin::EquivalentMove& same : basin.equivalentMoves(est, &refitted)) {
-    const MinimumMove& move = same.move;
-    UnidentifiableDirection d;
-    d.parameters = movedParameters(model.thetaSpace(), refitted, same.theta, std);
-    if (d.parameters.empty()) continue;
-    d.reason = mirrorReason(model.robot(), guesses, move);
-    d.kind = Undetermined::kMirror;
-    out.push_back(std::move(d));
-  }
-  return out;
+  return mirrorListing(model.thetaSpace(), mirrorCandidates(basin, est), std);
 }
 
 }  // namespace stac

@@ -112,8 +112,13 @@ CalibrationResult makeResult(const MethodInput& in, Outcome&& out, RowMatrix* jo
     summary.unidentifiable.push_back(std::move(d));
   for (UnidentifiableDirection& d : stillJoints(model, fitted, problem.seed_noise, out.noise))
     summary.unidentifiable.push_back(std::move(d));
+  // Where the run found the mirrors' candidates at its end, they are
+  // listed from there: the whole turns that nearestTurnForContinuousJoints
+  // moved θ and q by move both alike, and the listing compares the two.
   for (UnidentifiableDirection& d :
-       mirrorAmbiguities(problem, fitted, result.theta, out.noise, q, out.uncertainty.std))
+       all && out.mirrors
+           ? mirrorListing(model.thetaSpace(), *out.mirrors, out.uncertainty.std)
+           : mirrorAmbiguities(problem, fitted, result.theta, out.noise, q, out.uncertainty.std))
     summary.unidentifiable.push_back(std::move(d));
   Eigen::VectorXd std = out.uncertainty.std;
   undeterminedStd(model.thetaSpace(), summary.unidentifiable, &std);

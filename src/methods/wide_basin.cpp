@@ -664,11 +664,12 @@ std::vector<WideBasin::EquivalentMove> WideBasin::equivalentMoves(
   return out;
 }
 
-std::optional<MinimumMove> WideBasin::jumpToBetterEquivalent(Estimate* est) const {
+std::optional<MinimumMove> WideBasin::jumpToBetterEquivalent(
+    Estimate* est, std::vector<EquivalentMove>* same, SensorParameters* refitted) const {
   double base = 0;
-  const std::vector<EquivalentMove> same = equivalentMoves(*est, nullptr, &base);
+  *same = equivalentMoves(*est, refitted, &base);
   const EquivalentMove* best = nullptr;
-  for (const EquivalentMove& m : same)
+  for (const EquivalentMove& m : *same)
     if (m.cost < (1 - kBetterEquivalent) * base && (!best || m.cost < best->cost)) best = &m;
   if (!best) return std::nullopt;
   // About the kinematics' exact centres, as the listing moved it.

@@ -368,6 +368,7 @@ class WideBasin {
   std::optional<SensorParameters> runTreeOrder(QState* state) const;
 
   const std::vector<PotGuess>& guesses() const { return guesses_; }
+  const RobotModel& robot() const { return model_.robot(); }
   const std::vector<std::vector<int>>& moves() const { return moves_; }
   const Observations& subsample() const { return sub_; }
   bool markerGroupFree() const { return marker_group_free_; }
@@ -467,10 +468,13 @@ class WideBasin {
   // Of the equivalent moves, the one that fits the subsample best once
   // refined, if that is below est's own refined cost by more than
   // kBetterEquivalent, applied to est on the whole log; none otherwise.
-  // Two such minima are as likely within the data's resolution, but a
-  // converged run takes no jump that fits within kSameFit of it, so it can
-  // end in the one that fits worse while the listing reports the other.
-  std::optional<MinimumMove> jumpToBetterEquivalent(Estimate* est) const;
+  // The data hardly tell such minima apart, but a converged run takes no
+  // jump that fits within kSameFit of it, so it can end in the one that
+  // fits worse while the listing reports the other. `same` and `refitted`
+  // get equivalentMoves' answer from est as it was.
+  std::optional<MinimumMove> jumpToBetterEquivalent(Estimate* est,
+                                                    std::vector<EquivalentMove>* same,
+                                                    SensorParameters* refitted) const;
 
  private:
   // How refinedCost's coupled steps move the pots' maps. The escape's
